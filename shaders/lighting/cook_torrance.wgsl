@@ -33,6 +33,10 @@
 // (lib/sheen.wgsl) tinted by the material's sheen colour, under the coat and
 // over the base, which it dims by 1 - max(colour) x the lobe's albedo at N.V
 // (glTF's KHR_materials_sheen as the Khronos sample viewer shades it).
+// LIGHT_SUM (only in the fused light sets' copies, never a permutation of
+// this file alone): the loop's entry takes two sums it adds its terms to,
+// for CompositeLight to read as one pair; OUT_DIFFUSE, OUT_SPECULAR and
+// OUT_SSS then say which of the set's own targets are still written.
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -645,10 +649,23 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     // No early return: with CLUSTERED every lane takes part in the barriers.
     let covered = inside && d > 0.0;
     if (inside && !covered) {
+#ifdef LIGHT_SUM
+        // A fused set's own targets only where something reads them (OUT_*).
+#ifdef OUT_DIFFUSE
+        textureStore(out_diffuse, pixel, vec4<f32>(0.0));
+#endif
+#ifdef OUT_SPECULAR
+        textureStore(out_specular, pixel, vec4<f32>(0.0));
+#endif
+#ifdef OUT_SSS
+        textureStore(out_sss, pixel, vec4<f32>(0.0));
+#endif
+#else
         textureStore(out_diffuse, pixel, vec4<f32>(0.0));
         textureStore(out_specular, pixel, vec4<f32>(0.0));
 #ifdef FAKE_SSS
         textureStore(out_sss, pixel, vec4<f32>(0.0));
+#endif
 #endif
     }
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
@@ -954,9 +971,34 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     }
 #endif
 #endif
+#ifdef LIGHT_SUM
+    // Fused light sets that CompositeLight reads as one pair of sums
+    // (crates/render/src/lighting/light_sets/sums.rs): this set's terms, as
+    // its own targets would hold them (clamped; the subsurface term, which
+    // CompositeLight adds to the rest, with the diffuse), added to the sums
+    // the generated entry writes once; its own targets only where
+    // something else reads them (OUT_*).
+    let set_diffuse = min(diffuse, vec3<f32>(HALF_MAX));
+    let set_specular = min(specular, vec3<f32>(HALF_MAX));
+    *light_diffuse += set_diffuse;
+    *light_specular += set_specular;
+#ifdef FAKE_SSS
+    *light_diffuse += min(sss_sum, vec3<f32>(HALF_MAX));
+#endif
+#ifdef OUT_DIFFUSE
+    textureStore(out_diffuse, pixel, vec4<f32>(set_diffuse, 1.0));
+#endif
+#ifdef OUT_SPECULAR
+    textureStore(out_specular, pixel, vec4<f32>(set_specular, 1.0));
+#endif
+#ifdef OUT_SSS
+    textureStore(out_sss, pixel, vec4<f32>(min(sss_sum, vec3<f32>(HALF_MAX)), 1.0));
+#endif
+#else
     textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));
     textureStore(out_specular, pixel, vec4<f32>(min(specular, vec3<f32>(HALF_MAX)), 1.0));
 #ifdef FAKE_SSS
     textureStore(out_sss, pixel, vec4<f32>(min(sss_sum, vec3<f32>(HALF_MAX)), 1.0));
+#endif
 #endif
 }

@@ -15,7 +15,7 @@
 //! `wall_cpu_submit_ms_median`: timestamps cost CPU too, so these are the
 //! frame's own CPU, not the measurement's).
 
-use spreadlight_render::lighting::light_sets::{self, LightFusion};
+use spreadlight_render::lighting::light_sets::{self, LightFusion, LightSums};
 use spreadlight_render::renderer::{PassOrder, Recording, Timing};
 
 use std::path::PathBuf;
@@ -85,6 +85,13 @@ pub struct Args {
     /// SPREADLIGHT_LIGHT_FUSION says, else `separate`.
     #[arg(long, value_parser = ["separate", "fused", "auto"])]
     light_fusion: Option<String>,
+    /// Where light sets fuse, sum them for CompositeLight (`on`: one pair
+    /// of targets written and read, the sets' own made only where something
+    /// else reads them) or write each set's targets (`off`):
+    /// docs/benchmarks.md, "Light sets summed". Unset: what
+    /// SPREADLIGHT_LIGHT_SUMS says, else `on`.
+    #[arg(long, value_parser = ["on", "off"])]
+    light_sums: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
     /// node's work is left out. Without it such a patch is an error.
@@ -289,6 +296,15 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         None => LightFusion::from_env().map_err(anyhow::Error::msg)?,
     };
     light_sets::set_light_fusion(&renderer, fusion);
+    let sums = match args.light_sums.as_deref().and_then(LightSums::parse) {
+        Some(sums) => sums,
+        None => LightSums::from_env().map_err(anyhow::Error::msg)?,
+    };
+    light_sets::set_light_sums(&renderer, sums);
+    let light_sums = match sums {
+        LightSums::On => "on",
+        LightSums::Off => "off",
+    };
     let light_fusion = if fusion.fuses_on(renderer.gpu.adapter_class()) {
         "fused"
     } else {
@@ -437,6 +453,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "recording": args.recording,
             "schedule": schedule,
             "light_fusion": light_fusion,
+            "light_sums": light_sums,
             "gpu_ms_median": gpu,
             "gpu_idle_ms_median": idle,
             "cpu_ms_median": cpu,
@@ -463,7 +480,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion})",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion}, light sums {light_sums})",
             args.patch.display(),
             args.size.0,
             args.size.1,

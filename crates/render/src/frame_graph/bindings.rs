@@ -142,6 +142,13 @@ impl<'r> Bindings<'r> {
         self
     }
 
+    /// Only the resources whose variable names `keep` accepts (a fused
+    /// light set leaves out the targets nothing reads, which are not made).
+    pub fn retain(mut self, keep: impl Fn(&str) -> bool) -> Self {
+        self.entries.retain(|(name, _)| keep(name));
+        self
+    }
+
     /// Everything `other` binds too (a library's resources, such as the material world's).
     pub fn extend(mut self, other: Bindings<'r>) -> Self {
         self.entries.extend(other.entries);

@@ -219,6 +219,15 @@ fn execute(
             &plan.writes[p][..]
         };
         for (output, ((name, desc), key)) in writes.iter().zip(&plan.keys[p]).enumerate() {
+            // An output only a reader needs, and nothing reads: not made
+            // (the same test as `PassContext::is_read`, which the pass asks).
+            if desc.only_if_read
+                && !requested.contains(name.as_str())
+                && !last_use.get(name.as_str()).is_some_and(|&s| s > step)
+            {
+                add_counter(&mut report, super::TARGETS_NOT_MADE, 1);
+                continue;
+            }
             let texture = match desc.lifetime {
                 Lifetime::Persistent => match textures.persistent.get(name) {
                     Some((k, t)) if k == key => t.clone(),

@@ -131,6 +131,9 @@ pub struct TextureDesc {
     pub size: SizeRule,
     pub lifetime: Lifetime,
     pub usage: wgpu::TextureUsages,
+    /// Made only when a later pass reads it or the caller asks for it
+    /// ([`TextureDesc::only_if_read`]).
+    pub only_if_read: bool,
 }
 
 impl TextureDesc {
@@ -143,6 +146,7 @@ impl TextureDesc {
             usage: wgpu::TextureUsages::STORAGE_BINDING
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
+            only_if_read: false,
         }
     }
 
@@ -155,6 +159,7 @@ impl TextureDesc {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
+            only_if_read: false,
         }
     }
 
@@ -169,6 +174,7 @@ impl TextureDesc {
             },
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            only_if_read: false,
         }
     }
 
@@ -211,7 +217,22 @@ impl TextureDesc {
         self.size = size;
         self
     }
+
+    /// An output made only when a later pass reads it or the caller asks
+    /// for it: its pass declares it, but runs it only where it is needed
+    /// ([`PassContext::is_read`] says which) and binds no texture for it
+    /// otherwise. Nothing is allocated for it in a frame where nothing
+    /// reads it (counted under [`TARGETS_NOT_MADE`]): a fused light sets'
+    /// own targets when CompositeLight reads their sum (lighting::light_sets).
+    pub fn only_if_read(mut self) -> Self {
+        self.only_if_read = true;
+        self
+    }
 }
+
+/// Counted each frame: outputs declared [`TextureDesc::only_if_read`] that
+/// nothing read, so no texture was allocated for them.
+pub const TARGETS_NOT_MADE: &str = "targets not made: nothing reads them";
 
 type PassFn<'a> = Box<dyn FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a>;
 

@@ -568,6 +568,13 @@ pub(super) struct ShadeIo {
     custom_textures: Vec<Tex>,
 }
 
+impl ShadeIo {
+    /// The shade's outputs: diffuse, specular and the subsurface term.
+    pub(super) fn outputs(&self) -> [Option<Tex>; 3] {
+        [Some(self.diffuse), Some(self.specular), self.sss]
+    }
+}
+
 /// Roughness and metallic from a pin: finite and in 0..1.
 fn sanitize(v: f32) -> f32 {
     if v.is_finite() {
@@ -626,10 +633,20 @@ impl CookTorrance {
     }
 
     /// What the shade pass reads and writes, declared on `pass` (its own,
-    /// or the fused pass of several recipes).
-    pub(super) fn declare_shade_io(&self, pass: &mut PassBuilder<'_, '_>) -> ShadeIo {
+    /// or the fused pass of several recipes). `only_if_read`: its outputs
+    /// are made only where something reads them (a fused pass that also
+    /// writes the sets' sums, `light_sets`).
+    pub(super) fn declare_shade_io(
+        &self,
+        pass: &mut PassBuilder<'_, '_>,
+        only_if_read: bool,
+    ) -> ShadeIo {
         let g = &self.gbuffer.targets;
-        let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let mut hdr =
+            TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        if only_if_read {
+            hdr = hdr.only_if_read();
+        }
         // Ordering tokens: the light assignment's buffers and the shadow
         // maps live outside the graph.
         if self.walk.uses_froxels() {
@@ -672,7 +689,7 @@ impl Recipe for CookTorrance {
         }
         self.declare_inputs(renderer, fg);
         let mut pass = fg.pass(self.label("shade"), self.owner);
-        let io = self.declare_shade_io(&mut pass);
+        let io = self.declare_shade_io(&mut pass, false);
         if self.custom.is_none() {
             pass.will_dispatch(&self.key(), "main");
         }

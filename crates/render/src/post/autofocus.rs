@@ -153,12 +153,14 @@ impl Recipe for Autofocus {
             usage: wgpu::TextureUsages::STORAGE_BINDING
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
+            only_if_read: false,
         };
         let previous = TextureDesc {
             format: FORMAT,
             size: ONE,
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            only_if_read: false,
         };
         let mut pass = fg.pass(PassName::new("Autofocus"), self.owner);
         let io = AutofocusIo {

@@ -310,6 +310,7 @@ impl Recipe for EyeAdaptation {
             size: one,
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            only_if_read: false,
         };
         let mut pass = fg.pass(name("adapt".into()), self.owner);
         let io = AdaptIo {

@@ -89,6 +89,10 @@ pub struct CompositeLight {
     /// What the pass counts each frame: a reflection input culled because no
     /// material reflects, matcap or unlit materials shaded.
     counts: Vec<&'static str>,
+    /// The pairs of sums that fused light sets may write for two or more of
+    /// the components, most first: read in their place when a frame
+    /// declares one (lighting::light_sets, sums.rs).
+    sums: Vec<super::light_sets::SumCandidate>,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -167,6 +171,7 @@ impl CompositeLight {
             bytemuck::cast_slice(&[ambient[0], ambient[1], ambient[2], 0.0]),
         );
         let id = next_recipe_id();
+        let sums = super::light_sets::sum_candidates(&components);
         Ok(Arc::new(CompositeLight {
             id,
             owner,
@@ -179,6 +184,7 @@ impl CompositeLight {
             key,
             matcap_images,
             counts: counts.into_iter().filter(|c| c.0).map(|c| c.1).collect(),
+            sums,
             params,
             output: format!("composite{id}"),
         }))
@@ -219,6 +225,28 @@ impl Recipe for CompositeLight {
         // one dispatch, as one pass (when the renderer fuses light sets).
         super::light_sets::declare(renderer, fg, self.components.iter().map(|c| &c.diffuse));
         declare_inputs(renderer, fg, lights.flatten());
+        // Light sets summed for these components (declared above, or by
+        // another CompositeLight of the same sets): one pair in their place,
+        // first; the other components after it, in order.
+        let sum = self
+            .sums
+            .iter()
+            .find(|c| fg.planned(&c.diffuse).is_some());
+        let mut pairs: smallvec::SmallVec<[(&str, &str, Option<&str>); MAX_COMPONENTS]> =
+            smallvec::SmallVec::new();
+        if let Some(sum) = sum {
+            fg.count(super::light_sets::LIGHT_SUMS_READ, 1);
+            pairs.push((&sum.diffuse, &sum.specular, None));
+        }
+        for (k, light) in self.components.iter().enumerate() {
+            if sum.is_none_or(|c| c.members & (1 << k) == 0) {
+                pairs.push((&light.diffuse.name, &light.specular.name, name_of(&light.sss)));
+            }
+        }
+        let key = CompositeKey {
+            pairs: LightPairs::new(pairs.iter().map(|p| p.2.is_some())).unwrap_or(self.key.pairs),
+            ..self.key
+        };
         declare_inputs(renderer, fg, &self.matcap_images);
         if let Some(world) = &self.materials {
             world.declare_upstream(renderer, fg, self.textured());
@@ -232,10 +260,10 @@ impl Recipe for CompositeLight {
         pass.input("color", &g.color);
         pass.input("depth", &g.depth);
         pass.input_opt("surface_target", g.surface.as_deref());
-        for (k, light) in self.components.iter().enumerate() {
-            pass.input(DIFFUSE[k], &light.diffuse.name);
-            pass.input(SPECULAR[k], &light.specular.name);
-            pass.input_opt(SSS[k], name_of(&light.sss));
+        for (k, (diffuse, specular, sss)) in pairs.into_iter().enumerate() {
+            pass.input(DIFFUSE[k], diffuse);
+            pass.input(SPECULAR[k], specular);
+            pass.input_opt(SSS[k], sss);
         }
         pass.input_opt("occlusion", name_of(&self.occlusion));
         pass.input_opt("gi", name_of(&self.gi));
@@ -261,13 +289,13 @@ impl Recipe for CompositeLight {
             b.buffer("camera", self.gbuffer.camera_buffer())
                 .buffer("params", &self.params)
         });
-        pass.will_dispatch(&self.key.key(), "main");
+        pass.will_dispatch(&key.key(), "main");
         pass.run_bound(move |cx, b| {
             for counter in &self.counts {
                 cx.count(counter, 1);
             }
             let size = self.gbuffer.pixel_size(cx.output_size);
-            cx.dispatch_image("composite", &self.key.key(), b, size)
+            cx.dispatch_image("composite", &key.key(), b, size)
         });
     }
 }

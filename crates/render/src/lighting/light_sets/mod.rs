@@ -19,19 +19,28 @@
 //! store, within the device's per-stage binding limits and with at most one
 //! walk that keeps lights in workgroup memory (WebGPU's 16 KiB of it). The
 //! switch: [`LightFusion`], `SPREADLIGHT_LIGHT_FUSION`, `bench --light-fusion`.
+//!
+//! Where a CompositeLight adds the sets' terms, the fused pass also sums
+//! them in registers and writes one pair of sums for it, and the sets' own
+//! targets only where something else reads them (`sums.rs`, [`LightSums`]).
 
 mod source;
+mod sums;
 
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
 pub use source::MAX_SETS;
+pub(crate) use sums::{SumCandidate, candidates as sum_candidates};
+pub use sums::{
+    LIGHT_SUMS_READ, LIGHT_SUMS_VAR, LightSums, SUMMED_LIGHT_SETS, light_sums, set_light_sums,
+};
 
 use super::cook_torrance::{CookTorrance, ShadeIo, Walk};
 use super::cook_torrance_key::CookTorranceKey;
 use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{AsAny, Recipe, TextureRef};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -270,6 +279,7 @@ pub(crate) fn declare<'a>(
         return;
     }
     let limits = renderer.gpu.device.limits();
+    let summed = light_sums(renderer) == LightSums::On;
     for members in plan(fg, &limits, components) {
         for member in &members {
             fg.include(member.id());
@@ -287,14 +297,24 @@ pub(crate) fn declare<'a>(
         ];
         let name = PassName::new("CookTorrance").step(STEPS[members.len()]);
         let mut pass = fg.pass(name, members[0].owner());
+        // Summed: every output is made only where something reads it (the
+        // sums by a CompositeLight of these sets, the sets' own by anything).
         let ios: Vec<ShadeIo> = members
             .iter()
-            .map(|m| m.declare_shade_io(&mut pass))
+            .map(|m| m.declare_shade_io(&mut pass, summed))
             .collect();
+        let sums = summed.then(|| {
+            let mut ids: Vec<u64> = members.iter().map(|m| m.id()).collect();
+            let [diffuse, specular] = sums::sum_names(&mut ids);
+            let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+                .size(members[0].gbuffer().size)
+                .only_if_read();
+            [pass.write(&diffuse, desc), pass.write(&specular, desc)]
+        });
         let count = members.len() as u64;
         pass.run(move |cx| {
             cx.count(FUSED_LIGHT_SETS, count);
-            shade(cx, &members, &ios)
+            shade(cx, &members, &ios, sums)
         });
     }
 }
@@ -322,6 +342,7 @@ fn compose(
     composer: &mut ShaderComposer,
     sets: usize,
     defs: &[String],
+    summed: bool,
 ) -> Result<naga::Module, RenderError> {
     let file = <CookTorranceKey as Permutation>::FILE;
     let library = |path: &'static str| {
@@ -339,7 +360,7 @@ fn compose(
     let mut modules = Vec::new();
     for i in 0..sets {
         let set =
-            source::set_modules(i, &light_loop, &shadow_sampling, &spot).map_err(|message| {
+            source::set_modules(i, &light_loop, &shadow_sampling, &spot, summed).map_err(|message| {
                 RenderError::Shader {
                     shader: file.path.to_owned(),
                     defs: String::new(),
@@ -351,17 +372,65 @@ fn compose(
     composer.compose_generated(
         &modules,
         "lighting/light_sets (generated)",
-        &source::entry_source(sets),
+        &source::entry_source(sets, summed),
         defs,
     )
 }
 
+/// The outputs a summed pass writes this frame: each set's own (diffuse,
+/// specular, subsurface) and the sums, where something reads them.
+#[derive(Clone, Copy, Default, Hash)]
+struct Written {
+    sets: [[bool; 3]; MAX_SETS],
+    sums: [bool; 2],
+}
+
+/// The set switches of the outputs a set writes, as `sums.rs` names them.
+const OUTPUT_FEATURES: [&str; 3] = ["OUT_DIFFUSE", "OUT_SPECULAR", "OUT_SSS"];
+/// The light loop's variables of those outputs.
+const OUTPUT_VARS: [&str; 3] = ["out_diffuse", "out_specular", "out_sss"];
+
+/// The summed loop's own switches for `written` (`sets` sets).
+fn summed_switches(sets: usize, written: &Written) -> Vec<String> {
+    let mut defs = vec!["LIGHT_SUM".to_owned()];
+    for (i, outputs) in written.sets.iter().take(sets).enumerate() {
+        for (feature, on) in OUTPUT_FEATURES.iter().zip(outputs) {
+            if *on {
+                defs.push(source::set_feature(i, feature));
+            }
+        }
+    }
+    for (feature, on) in ["SUM_DIFFUSE", "SUM_SPECULAR"].iter().zip(written.sums) {
+        if on {
+            defs.push((*feature).to_owned());
+        }
+    }
+    defs
+}
+
 /// The fused pass: each set's resources under its own names, one dispatch.
+/// `sums`: the pair of sums it declared (summed), else none.
 fn shade(
     cx: &mut PassContext<'_>,
     members: &[&CookTorrance],
     ios: &[ShadeIo],
+    sums: Option<[Tex; 2]>,
 ) -> Result<(), RenderError> {
+    // Summed, what is read decides what is written (what nothing reads
+    // was not made); else every output, as declared.
+    let written = sums.map(|sums| {
+        let mut written = Written {
+            sums: sums.map(|t| cx.is_read(t)),
+            ..Written::default()
+        };
+        for (set, io) in written.sets.iter_mut().zip(ios) {
+            *set = io.outputs().map(|t| t.is_some_and(|t| cx.is_read(t)));
+        }
+        written
+    });
+    if written.is_some_and(|w| w.sums.iter().any(|s| *s)) {
+        cx.count(SUMMED_LIGHT_SETS, members.len() as u64);
+    }
     let guards: smallvec::SmallVec<[_; MAX_SETS]> = members
         .iter()
         .map(|m| m.cluster_store().get(cx.gpu, 1, m.lights().count()))
@@ -375,6 +444,16 @@ fn shade(
             return Ok(());
         };
         member.shade_key().hash(&mut hasher);
+        let mut set = member.shade_bindings(cx, io, clusters)?;
+        if let Some(w) = &written {
+            let outputs = w.sets[i];
+            set = set.retain(|name| {
+                OUTPUT_VARS
+                    .iter()
+                    .zip(outputs)
+                    .all(|(var, on)| on || *var != name)
+            });
+        }
         let names = source::binding_names(i);
         let rename = |name: &str| {
             names
@@ -382,17 +461,28 @@ fn shade(
                 .find(|(from, _)| *from == name)
                 .map(|(_, to)| to.as_str())
         };
-        let set = member.shade_bindings(cx, io, clusters)?;
         bindings = bindings.extend(set.renamed(rename, i == 0));
+    }
+    written.hash(&mut hasher);
+    if let (Some(w), Some([diffuse, specular])) = (&written, sums) {
+        let sum_vars = [("sum_diffuse", diffuse), ("sum_specular", specular)];
+        for ((var, tex), on) in sum_vars.into_iter().zip(w.sums) {
+            if on {
+                bindings = bindings.texture(var, tex);
+            }
+        }
     }
     let device = cx.gpu.device.clone();
     let (pipeline, reflection) =
         cx.shaders
             .generated_pipeline(&device, hasher.finish(), "main", |composer| {
                 let keys: Vec<CookTorranceKey> = members.iter().map(|m| m.shade_key()).collect();
-                let defs = switches(&keys);
+                let mut defs = switches(&keys);
+                if let Some(w) = &written {
+                    defs.extend(summed_switches(keys.len(), w));
+                }
                 let label = format!("lighting/light_sets x{} [{}]", keys.len(), defs.join(", "));
-                Ok((label, compose(composer, keys.len(), &defs)?))
+                Ok((label, compose(composer, keys.len(), &defs, written.is_some())?))
             })?;
     let label = "CookTorrance: shade light sets";
     let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;

@@ -37,6 +37,10 @@ pub const SET_FEATURES: &[&str] = &[
     "SHADOW_PCF",
     "SHADOW_PCSS",
     "SHADOW_VSM",
+    // With LIGHT_SUM (sums.rs): which of the set's own targets are written.
+    "OUT_DIFFUSE",
+    "OUT_SPECULAR",
+    "OUT_SSS",
 ];
 
 /// Binding numbers of set `i` start at `SET_BINDINGS * (i + 1)`: the single
@@ -45,6 +49,9 @@ const SET_BINDINGS: u32 = 64;
 
 /// The single loop's entry point, as the file declares it.
 const ENTRY: &str = "@compute @workgroup_size(16, 16)\nfn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: vec3<u32>) {";
+
+/// Set `i`'s entry with LIGHT_SUM: the sums its terms are added to.
+const SUMMED_ENTRY: &str = "fn shade_set(lane: u32, wid: vec3<u32>, light_diffuse: ptr<function, vec3<f32>>, light_specular: ptr<function, vec3<f32>>) {";
 
 /// The per-set libraries: their import paths, as the files name them.
 const SHADOW_MODULE: &str = "spreadlight::shadow_sampling";
@@ -164,12 +171,14 @@ fn for_set(source: &str, i: usize, names: &[&str]) -> String {
 /// text), in the order they must be added (each after what it imports).
 /// `light_loop`, `shadow_sampling` and `spot`: the current text of
 /// `lighting/cook_torrance.wgsl`, `lighting/shadow_sampling.wgsl` and
-/// `lib/spot.wgsl`. An error names what no longer matches.
+/// `lib/spot.wgsl`. `summed`: the loop adds its terms to the sets' sums
+/// (LIGHT_SUM, sums.rs). An error names what no longer matches.
 pub fn set_modules(
     i: usize,
     light_loop: &str,
     shadow_sampling: &str,
     spot: &str,
+    summed: bool,
 ) -> Result<Vec<(String, String, String)>, String> {
     if !light_loop.contains(ENTRY) {
         return Err(format!(
@@ -181,7 +190,12 @@ pub fn set_modules(
     names.extend(group0_names(spot));
     let shadow = for_set(shadow_sampling, i, &names);
     let spot_text = for_set(spot, i, &names);
-    let body = light_loop.replace(ENTRY, "fn shade_set(lane: u32, wid: vec3<u32>) {");
+    let entry = if summed {
+        SUMMED_ENTRY
+    } else {
+        "fn shade_set(lane: u32, wid: vec3<u32>) {"
+    };
+    let body = light_loop.replace(ENTRY, entry);
     let body = format!(
         "#define_import_path {}\n{}",
         set_module(i),
@@ -207,7 +221,9 @@ pub fn set_modules(
 }
 
 /// The fused entry shader for `sets` sets: each set's loop in turn.
-pub fn entry_source(sets: usize) -> String {
+/// `summed`: the sets add their terms to two sums in registers, which the
+/// entry writes once, each under its switch (sums.rs).
+pub fn entry_source(sets: usize, summed: bool) -> String {
     let mut out = String::from(
         "// Generated (crates/render/src/lighting/light_sets/source.rs): the\n\
          // light sets of one G-buffer in one dispatch, each shaded and written\n\
@@ -216,16 +232,57 @@ pub fn entry_source(sets: usize) -> String {
     for i in 0..sets {
         let _ = writeln!(out, "#import {} as set_{i}", set_module(i));
     }
+    if summed {
+        out.push_str(SUM_TARGETS);
+    }
     out.push_str(
         "\n@compute @workgroup_size(16, 16)\n\
          fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: vec3<u32>) {\n",
     );
+    if summed {
+        out.push_str("    var diffuse = vec3<f32>(0.0);\n    var specular = vec3<f32>(0.0);\n");
+    }
     for i in 0..sets {
-        let _ = writeln!(out, "    set_{i}::shade_set(lane, wid);");
+        if summed {
+            let _ = writeln!(out, "    set_{i}::shade_set(lane, wid, &diffuse, &specular);");
+        } else {
+            let _ = writeln!(out, "    set_{i}::shade_set(lane, wid);");
+        }
+    }
+    if summed {
+        out.push_str(STORE_SUMS);
     }
     out.push_str("}\n");
     out
 }
+
+/// The sums' targets (binding numbers below every set's, above the
+/// single loop's and its libraries').
+const SUM_TARGETS: &str = "
+#ifdef SUM_DIFFUSE
+@group(0) @binding(40) var sum_diffuse: texture_storage_2d<rgba16float, write>;
+#endif
+#ifdef SUM_SPECULAR
+@group(0) @binding(41) var sum_specular: texture_storage_2d<rgba16float, write>;
+#endif
+";
+
+/// The sums stored at the lane's pixel (as the light loop places it: 8x4
+/// blocks per 32 lanes), clamped below half-float overflow as each set's
+/// terms were; a pixel of background stores the zeros it summed.
+const STORE_SUMS: &str = "    let warp = lane / 32u;
+    let pixel = wid.xy * 16u + vec2<u32>((warp & 1u) * 8u + (lane & 7u), (warp >> 1u) * 4u + ((lane >> 3u) & 3u));
+#ifdef SUM_DIFFUSE
+    if (all(pixel < textureDimensions(sum_diffuse))) {
+        textureStore(sum_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(65000.0)), 1.0));
+    }
+#endif
+#ifdef SUM_SPECULAR
+    if (all(pixel < textureDimensions(sum_specular))) {
+        textureStore(sum_specular, pixel, vec4<f32>(min(specular, vec3<f32>(65000.0)), 1.0));
+    }
+#endif
+";
 
 /// The names set `i` binds by, for each name of the single loop (group 0
 /// of the three files): kept for the process, as bindings borrow them.
@@ -316,9 +373,10 @@ mod tests {
             .filter_map(|s| s.split(')').next()?.parse::<u32>().ok())
             .max();
         assert!(highest.is_some_and(|h| h < SET_BINDINGS), "{highest:?}");
-        assert!(set_modules(0, light_loop, "", "").is_ok());
+        assert!(set_modules(0, light_loop, "", "", false).is_ok());
+        assert!(set_modules(0, light_loop, "", "", true).is_ok());
         let moved = light_loop.replace(ENTRY, "fn main() {");
-        let err = set_modules(0, &moved, "", "").expect_err("no entry to turn");
+        let err = set_modules(0, &moved, "", "", false).expect_err("no entry to turn");
         assert!(err.contains("cook_torrance.wgsl"), "{err}");
     }
 }

@@ -57,7 +57,7 @@ fn every_kind_of_set_composes_in_a_fused_loop() {
     let mut failures = Vec::new();
     for keys in &groups {
         let defs = switches(keys);
-        if let Err(e) = compose(&mut composer, keys.len(), &defs) {
+        if let Err(e) = compose(&mut composer, keys.len(), &defs, false) {
             failures.push(format!("{defs:?}: {e}"));
         }
     }
@@ -133,7 +133,7 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
         "{defs:?}"
     );
     let mut composer = ShaderComposer::new().expect("libraries compose");
-    let module = compose(&mut composer, keys.len(), &defs).expect("four sets compose");
+    let module = compose(&mut composer, keys.len(), &defs, false).expect("four sets compose");
     // Each set binds its own outputs, by its own names.
     let reflection = crate::shaders::reflection_of(&module, "main").expect("reflects");
     for i in 0..4 {
@@ -149,4 +149,75 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
         reflection.position("indices_s0").is_none(),
         "a sun walks no froxels"
     );
+}
+
+#[test]
+fn summed_sets_write_their_sums_and_only_the_targets_asked_for() {
+    let kinds = set_kinds();
+    let pick = |lights: Lights, shadows| {
+        kinds
+            .iter()
+            .copied()
+            .find(|k| k.lights == lights && k.shadows == shadows)
+            .expect("a kind of set")
+    };
+    // emeshe-frame.ron's three sets.
+    let keys = [
+        pick(Lights::Sun, Some(ShadowSampling::Pcss)),
+        pick(
+            Lights::Spot {
+                walk: Walk::Naive,
+                textured: false,
+            },
+            Some(ShadowSampling::Pcss),
+        ),
+        pick(Lights::Point(Walk::Clustered), None),
+    ];
+    let used = |module: &naga::Module, name: &str| {
+        let reflection = crate::shaders::reflection_of(module, "main").expect("reflects");
+        reflection
+            .position(name)
+            .is_some_and(|i| reflection.vars()[i].used)
+    };
+    let mut composer = ShaderComposer::new().expect("libraries compose");
+    // The sums alone (a CompositeLight reads them, nothing reads the sets'
+    // own), then the sums and set 1's specular (something else reads it),
+    // then every set's own and no sums (no CompositeLight of these sets).
+    let mut some = Written {
+        sums: [true, true],
+        ..Written::default()
+    };
+    some.sets[1][1] = true;
+    let every = Written {
+        sets: [[true, true, false]; MAX_SETS],
+        sums: [false, false],
+    };
+    for written in [
+        Written {
+            sums: [true, true],
+            ..Written::default()
+        },
+        some,
+        every,
+    ] {
+        let mut defs = switches(&keys);
+        defs.extend(summed_switches(keys.len(), &written));
+        let module = compose(&mut composer, keys.len(), &defs, true)
+            .unwrap_or_else(|e| panic!("{defs:?}: {e}"));
+        for (var, on) in ["sum_diffuse", "sum_specular"].iter().zip(written.sums) {
+            assert_eq!(used(&module, var), on, "{var} with {defs:?}");
+        }
+        for i in 0..keys.len() {
+            for (k, var) in ["out_diffuse", "out_specular"].iter().enumerate() {
+                let renamed = source::set_binding(i, var);
+                assert_eq!(
+                    used(&module, &renamed),
+                    written.sets[i][k],
+                    "{renamed} with {defs:?}"
+                );
+            }
+            // The surface is still each set's: its G-buffer reads stay bound.
+            assert!(used(&module, &source::set_binding(i, "depth")));
+        }
+    }
 }
