@@ -1455,3 +1455,86 @@ fn a_light_cutoff_stays_finite_for_extreme_lights_and_cutoffs() {
         }
     }
 }
+
+/// The largest difference between two images, relative to the brighter of
+/// the two texels (and at least 1, so near-black texels compare absolutely).
+fn worst_relative(a: &ImageF32, b: &ImageF32) -> f32 {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1.0)))
+        .fold(0.0f32, f32::max)
+}
+
+#[test]
+fn summed_light_sets_write_one_pair_and_a_sets_own_target_only_where_read() {
+    use spreadlight_render::frame_graph::TARGETS_NOT_MADE;
+    use spreadlight_render::lighting::light_sets::{
+        self, LIGHT_SUMS_READ, LightFusion, LightSums, SUMMED_LIGHT_SETS,
+    };
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
+    let renderer = test_renderer();
+    light_sets::set_light_fusion(&renderer, LightFusion::Fused);
+    let g = scene(&renderer);
+    let points = LightBuffer::points(&renderer, &scattered(6));
+    let spot = SpotLight::cone(Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y, 10.0, 0.5, 0.6)
+        .with_light(Vec3::ONE, 200.0);
+    let spots = LightBuffer::spots(&renderer, &[spot], None).expect("a valid spot");
+    let shade = |lights| {
+        CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights,
+            LightLoop::Naive,
+            true,
+            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+        )
+    };
+    let (point_shade, spot_shade) = (shade(points), shade(spots));
+    let composite = CompositeLight::new(
+        &renderer,
+        None,
+        g.clone(),
+        CompositeInputs {
+            components: vec![point_shade.components(), spot_shade.components()],
+            ambient: [0.01; 3],
+            materials: None,
+            occlusion: None,
+            gi: None,
+            reflection: None,
+        },
+    )
+    .expect("valid");
+    let render = |sums: LightSums, names: &[&str]| {
+        light_sets::set_light_sums(&renderer, sums);
+        let (report, images) =
+            render_and_read(&renderer, composite.as_ref(), SIZE, names).expect("renders");
+        assert!(report.errors.is_empty(), "{sums:?}: {:?}", report.errors);
+        let counts = [SUMMED_LIGHT_SETS, LIGHT_SUMS_READ, TARGETS_NOT_MADE]
+            .map(|name| report.counter(name));
+        (images, counts)
+    };
+    let with_diffuse = [composite.output.as_str(), point_shade.diffuse.as_str()];
+    let (each, each_counts) = render(LightSums::Off, &with_diffuse);
+    assert_eq!(each_counts, [0, 0, 0], "each set writes its own targets");
+    // Summed: the composite reads the pair; the point set's diffuse, asked
+    // for too, is still written, the other three targets are not made.
+    let (summed, summed_counts) = render(LightSums::On, &with_diffuse);
+    assert_eq!(summed_counts, [2, 1, 3]);
+    assert_eq!(
+        each[1].pixels, summed[1].pixels,
+        "a set's own target, where read, is what it was"
+    );
+    assert!(summed[0].all_finite());
+    // The lights reach part of the floor (287 pixels of 5,184 on lavapipe).
+    let lit = |image: &ImageF32| image.pixels.iter().filter(|p| p[0] > 0.05).count();
+    assert!(lit(&summed[0]) > 100, "{} lit pixels", lit(&summed[0]));
+    // The sum rounded to half floats once, not each set's terms: within
+    // a few half-float steps (2^-11 relative each).
+    let worst = worst_relative(&each[0], &summed[0]);
+    assert!(worst <= 2e-3, "summed against each set's: {worst}");
+    // Nothing else reads the sets: none of their four targets is made.
+    let (_, alone) = render(LightSums::On, &[composite.output.as_str()]);
+    assert_eq!(alone, [2, 1, 4]);
+}
