@@ -1174,12 +1174,14 @@ fn passes_in_waves_render_what_declaration_order_renders() {
 /// arithmetic differently would show it here first).
 #[test]
 fn fused_light_sets_render_what_their_own_passes_render() {
-    use spreadlight_render::lighting::light_sets::{self, FUSED_LIGHT_SETS, LightFusion};
+    use spreadlight_render::lighting::light_sets::{self, FUSED_LIGHT_SETS, LightFusion, LightSums};
     for (patch, output, sets) in [("emeshe-frame", "bench", 3), ("post", "post", 2)] {
         let path = spreadlight_tests::root().join(format!("patches/{patch}.ron"));
         let run = |fusion: LightFusion| {
             let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
             light_sets::set_light_fusion(run.renderer(), fusion);
+            // Each set writes its own targets (summed, the next test).
+            light_sets::set_light_sums(run.renderer(), LightSums::Off);
             run.run_to(1);
             let report = run.renderer().last_report();
             assert!(
@@ -1225,5 +1227,59 @@ fn fused_light_sets_render_what_their_own_passes_render() {
             separate.pixels == fused.pixels,
             "{patch}: fused and separate differ, by up to {worst}"
         );
+    }
+}
+
+#[test]
+fn summed_light_sets_render_within_rounding_of_separate_passes() {
+    use spreadlight_render::frame_graph::TARGETS_NOT_MADE;
+    use spreadlight_render::lighting::light_sets::{
+        self, LIGHT_SUMS_READ, LightFusion, LightSums, SUMMED_LIGHT_SETS,
+    };
+    // emeshe-frame.ron: a sun and three spots with PCSS shadow maps, 1,000
+    // point lights, two CompositeLights of the three sets (the lit image
+    // SSR reflects, and the frame's): the six targets of the sets are not
+    // made, both read the sums; measured 4.9e-4 (one half-float step) on
+    // lavapipe. post.ron: its spot and point sets fuse (its sun's diffuse
+    // feeds SSGI first), but its CompositeLight adds their subsurface terms
+    // as SSSS blurred them, not as the sets wrote them: no sum stands for
+    // them, so it reads the sets' own targets as before (the same bytes as
+    // separate passes) and the two sums, which nothing reads, are not made.
+    // Expected: sets summed, CompositeLights reading sums, targets not made.
+    for (patch, output, counts, bound) in [
+        ("emeshe-frame", "bench", [3, 2, 6], 2e-3),
+        ("post", "post", [0, 0, 2], 0.0),
+    ] {
+        let path = spreadlight_tests::root().join(format!("patches/{patch}.ron"));
+        let run = |fusion: LightFusion| {
+            let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
+            light_sets::set_light_fusion(run.renderer(), fusion);
+            light_sets::set_light_sums(run.renderer(), LightSums::On);
+            run.run_to(1);
+            let report = run.renderer().last_report();
+            assert!(report.errors.is_empty(), "{patch} {fusion:?}: {:?}", report.errors);
+            let counted = [SUMMED_LIGHT_SETS, LIGHT_SUMS_READ, TARGETS_NOT_MADE]
+                .map(|name| report.counter(name));
+            (run.image(output).0, counted)
+        };
+        let (separate, none) = run(LightFusion::Separate);
+        let (summed, counted) = run(LightFusion::Fused);
+        assert_eq!(none, [0, 0, 0], "{patch}: light sums apply only where sets fuse");
+        assert_eq!(counted, counts, "{patch}: summed, read, not made");
+        assert!(separate.all_finite() && summed.all_finite(), "{patch}");
+        // Relative to the brighter texel (at least 1): each set's terms were
+        // rounded to half floats (2^-11) before CompositeLight added them,
+        // the sum is rounded once, and the GI term comes after the sum.
+        let worst = separate
+            .pixels
+            .iter()
+            .zip(&summed.pixels)
+            .flat_map(|(a, b)| {
+                a.iter()
+                    .zip(b)
+                    .map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1.0))
+            })
+            .fold(0.0f32, f32::max);
+        assert!(worst <= bound, "{patch}: summed and separate differ by {worst}");
     }
 }
