@@ -1174,7 +1174,9 @@ fn passes_in_waves_render_what_declaration_order_renders() {
 /// arithmetic differently would show it here first).
 #[test]
 fn fused_light_sets_render_what_their_own_passes_render() {
-    use spreadlight_render::lighting::light_sets::{self, FUSED_LIGHT_SETS, LightFusion, LightSums};
+    use spreadlight_render::lighting::light_sets::{
+        self, FUSED_LIGHT_SETS, LightFusion, LightSums,
+    };
     for (patch, output, sets) in [("emeshe-frame", "bench", 3), ("post", "post", 2)] {
         let path = spreadlight_tests::root().join(format!("patches/{patch}.ron"));
         let run = |fusion: LightFusion| {
@@ -1257,14 +1259,22 @@ fn summed_light_sets_render_within_rounding_of_separate_passes() {
             light_sets::set_light_sums(run.renderer(), LightSums::On);
             run.run_to(1);
             let report = run.renderer().last_report();
-            assert!(report.errors.is_empty(), "{patch} {fusion:?}: {:?}", report.errors);
+            assert!(
+                report.errors.is_empty(),
+                "{patch} {fusion:?}: {:?}",
+                report.errors
+            );
             let counted = [SUMMED_LIGHT_SETS, LIGHT_SUMS_READ, TARGETS_NOT_MADE]
                 .map(|name| report.counter(name));
             (run.image(output).0, counted)
         };
         let (separate, none) = run(LightFusion::Separate);
         let (summed, counted) = run(LightFusion::Fused);
-        assert_eq!(none, [0, 0, 0], "{patch}: light sums apply only where sets fuse");
+        assert_eq!(
+            none,
+            [0, 0, 0],
+            "{patch}: light sums apply only where sets fuse"
+        );
         assert_eq!(counted, counts, "{patch}: summed, read, not made");
         assert!(separate.all_finite() && summed.all_finite(), "{patch}");
         // Relative to the brighter texel (at least 1): each set's terms were
@@ -1280,6 +1290,9 @@ fn summed_light_sets_render_within_rounding_of_separate_passes() {
                     .map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1.0))
             })
             .fold(0.0f32, f32::max);
-        assert!(worst <= bound, "{patch}: summed and separate differ by {worst}");
+        assert!(
+            worst <= bound,
+            "{patch}: summed and separate differ by {worst}"
+        );
     }
 }

@@ -1462,7 +1462,11 @@ fn worst_relative(a: &ImageF32, b: &ImageF32) -> f32 {
     a.pixels
         .iter()
         .zip(&b.pixels)
-        .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1.0)))
+        .flat_map(|(a, b)| {
+            a.iter()
+                .zip(b)
+                .map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1.0))
+        })
         .fold(0.0f32, f32::max)
 }
 
@@ -1511,8 +1515,8 @@ fn summed_light_sets_write_one_pair_and_a_sets_own_target_only_where_read() {
         let (report, images) =
             render_and_read(&renderer, composite.as_ref(), SIZE, names).expect("renders");
         assert!(report.errors.is_empty(), "{sums:?}: {:?}", report.errors);
-        let counts = [SUMMED_LIGHT_SETS, LIGHT_SUMS_READ, TARGETS_NOT_MADE]
-            .map(|name| report.counter(name));
+        let counts =
+            [SUMMED_LIGHT_SETS, LIGHT_SUMS_READ, TARGETS_NOT_MADE].map(|name| report.counter(name));
         (images, counts)
     };
     let with_diffuse = [composite.output.as_str(), point_shade.diffuse.as_str()];

@@ -228,10 +228,7 @@ impl Recipe for CompositeLight {
         // Light sets summed for these components (declared above, or by
         // another CompositeLight of the same sets): one pair in their place,
         // first; the other components after it, in order.
-        let sum = self
-            .sums
-            .iter()
-            .find(|c| fg.planned(&c.diffuse).is_some());
+        let sum = self.sums.iter().find(|c| fg.planned(&c.diffuse).is_some());
         let mut pairs: smallvec::SmallVec<[(&str, &str, Option<&str>); MAX_COMPONENTS]> =
             smallvec::SmallVec::new();
         if let Some(sum) = sum {
@@ -240,7 +237,11 @@ impl Recipe for CompositeLight {
         }
         for (k, light) in self.components.iter().enumerate() {
             if sum.is_none_or(|c| c.members & (1 << k) == 0) {
-                pairs.push((&light.diffuse.name, &light.specular.name, name_of(&light.sss)));
+                pairs.push((
+                    &light.diffuse.name,
+                    &light.specular.name,
+                    name_of(&light.sss),
+                ));
             }
         }
         let key = CompositeKey {

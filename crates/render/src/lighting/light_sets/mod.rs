@@ -31,10 +31,10 @@ use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
 pub use source::MAX_SETS;
-pub(crate) use sums::{SumCandidate, candidates as sum_candidates};
 pub use sums::{
     LIGHT_SUMS_READ, LIGHT_SUMS_VAR, LightSums, SUMMED_LIGHT_SETS, light_sums, set_light_sums,
 };
+pub(crate) use sums::{SumCandidate, candidates as sum_candidates};
 
 use super::cook_torrance::{CookTorrance, ShadeIo, Walk};
 use super::cook_torrance_key::CookTorranceKey;
@@ -359,14 +359,13 @@ fn compose(
     let spot = composer.source_of(library("lib/spot.wgsl")?).to_owned();
     let mut modules = Vec::new();
     for i in 0..sets {
-        let set =
-            source::set_modules(i, &light_loop, &shadow_sampling, &spot, summed).map_err(|message| {
-                RenderError::Shader {
-                    shader: file.path.to_owned(),
-                    defs: String::new(),
-                    message,
-                }
-            })?;
+        let set = source::set_modules(i, &light_loop, &shadow_sampling, &spot, summed).map_err(
+            |message| RenderError::Shader {
+                shader: file.path.to_owned(),
+                defs: String::new(),
+                message,
+            },
+        )?;
         modules.extend(set);
     }
     composer.compose_generated(
@@ -482,7 +481,10 @@ fn shade(
                     defs.extend(summed_switches(keys.len(), w));
                 }
                 let label = format!("lighting/light_sets x{} [{}]", keys.len(), defs.join(", "));
-                Ok((label, compose(composer, keys.len(), &defs, written.is_some())?))
+                Ok((
+                    label,
+                    compose(composer, keys.len(), &defs, written.is_some())?,
+                ))
             })?;
     let label = "CookTorrance: shade light sets";
     let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;

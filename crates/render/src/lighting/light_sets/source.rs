@@ -244,7 +244,10 @@ pub fn entry_source(sets: usize, summed: bool) -> String {
     }
     for i in 0..sets {
         if summed {
-            let _ = writeln!(out, "    set_{i}::shade_set(lane, wid, &diffuse, &specular);");
+            let _ = writeln!(
+                out,
+                "    set_{i}::shade_set(lane, wid, &diffuse, &specular);"
+            );
         } else {
             let _ = writeln!(out, "    set_{i}::shade_set(lane, wid);");
         }

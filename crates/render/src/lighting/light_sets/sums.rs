@@ -68,9 +68,8 @@ impl LightSums {
         match std::env::var(LIGHT_SUMS_VAR) {
             Err(std::env::VarError::NotPresent) => Ok(LightSums::default()),
             Err(e) => Err(format!("{LIGHT_SUMS_VAR}: {e}")),
-            Ok(value) => Self::parse(&value).ok_or_else(|| {
-                format!("{LIGHT_SUMS_VAR} is `{value}`: it takes `on` or `off`")
-            }),
+            Ok(value) => Self::parse(&value)
+                .ok_or_else(|| format!("{LIGHT_SUMS_VAR} is `{value}`: it takes `on` or `off`")),
         }
     }
 }
@@ -98,11 +97,7 @@ pub fn set_light_sums(renderer: &Renderer, sums: LightSums) {
 /// the same pair.
 pub(crate) fn sum_names(ids: &mut [u64]) -> [String; 2] {
     ids.sort_unstable();
-    let joined = ids
-        .iter()
-        .map(u64::to_string)
-        .collect::<Vec<_>>()
-        .join("+");
+    let joined = ids.iter().map(u64::to_string).collect::<Vec<_>>().join("+");
     [
         format!("lightsums/{joined}/diffuse"),
         format!("lightsums/{joined}/specular"),
