@@ -223,7 +223,7 @@ fn execute(
             // (the same test as `PassContext::is_read`, which the pass asks).
             if desc.only_if_read
                 && !requested.contains(name.as_str())
-                && !last_use.get(name.as_str()).is_some_and(|&s| s > step)
+                && last_use.get(name.as_str()).is_none_or(|&s| s <= step)
             {
                 add_counter(&mut report, super::TARGETS_NOT_MADE, 1);
                 continue;
