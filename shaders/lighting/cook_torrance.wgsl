@@ -34,8 +34,9 @@
 // over the base, which it dims by 1 - max(colour) x the lobe's albedo at N.V
 // (glTF's KHR_materials_sheen as the Khronos sample viewer shades it).
 // LIGHT_SUM (only in the fused light sets' copies, never a permutation of
-// this file alone): the loop's entry takes two sums it adds its terms to,
-// for CompositeLight to read as one pair; OUT_DIFFUSE, OUT_SPECULAR and
+// this file alone): the loop's entry takes the pixel's G-buffer texels,
+// read once for all sets, and two sums it adds its terms to, for
+// CompositeLight to read as one pair; OUT_DIFFUSE, OUT_SPECULAR and
 // OUT_SSS then say which of the set's own targets are still written.
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
@@ -644,7 +645,12 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     let inside = pixel.x < size.x && pixel.y < size.y;
     var d = 0.0;
     if (inside) {
+#ifdef LIGHT_SUM
+        // The fused sets' entry read the pixel's G-buffer texels once for all of them.
+        d = gbuffer_depth;
+#else
         d = textureLoad(depth, pixel, 0).r;
+#endif
     }
     // No early return: with CLUSTERED every lane takes part in the barriers.
     let covered = inside && d > 0.0;
@@ -676,8 +682,13 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     var n = vec3<f32>(0.0, 0.0, 1.0);
     var texel = vec4<f32>(0.0);
     if (inside) {
+#ifdef LIGHT_SUM
+        n = safe_normalize(gbuffer_normal.xyz, vec3<f32>(0.0, 0.0, 1.0));
+        texel = gbuffer_color;
+#else
         n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
         texel = textureLoad(color, pixel, 0);
+#endif
     }
     let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
 #ifdef SHADOWS

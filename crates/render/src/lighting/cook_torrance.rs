@@ -573,6 +573,11 @@ impl ShadeIo {
     pub(super) fn outputs(&self) -> [Option<Tex>; 3] {
         [Some(self.diffuse), Some(self.specular), self.sss]
     }
+
+    /// The G-buffer's color, normals and depth, as the shade reads them.
+    pub(super) fn gbuffer(&self) -> [Tex; 3] {
+        [self.color, self.normals, self.depth]
+    }
 }
 
 /// Roughness and metallic from a pin: finite and in 0..1.

@@ -464,6 +464,13 @@ fn shade(
     }
     written.hash(&mut hasher);
     if let (Some(w), Some([diffuse, specular])) = (&written, sums) {
+        // The G-buffer, read once by the summed entry for every set (all
+        // sets of a group shade the same one).
+        let [color, normals, depth] = ios[0].gbuffer();
+        bindings = bindings
+            .texture("gbuffer_color", color)
+            .texture("gbuffer_normals", normals)
+            .texture("gbuffer_depth", depth);
         let sum_vars = [("sum_diffuse", diffuse), ("sum_specular", specular)];
         for ((var, tex), on) in sum_vars.into_iter().zip(w.sums) {
             if on {

@@ -50,8 +50,9 @@ const SET_BINDINGS: u32 = 64;
 /// The single loop's entry point, as the file declares it.
 const ENTRY: &str = "@compute @workgroup_size(16, 16)\nfn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: vec3<u32>) {";
 
-/// Set `i`'s entry with LIGHT_SUM: the sums its terms are added to.
-const SUMMED_ENTRY: &str = "fn shade_set(lane: u32, wid: vec3<u32>, light_diffuse: ptr<function, vec3<f32>>, light_specular: ptr<function, vec3<f32>>) {";
+/// Set `i`'s entry with LIGHT_SUM: the pixel's G-buffer texels (read once
+/// by the generated entry) and the sums its terms are added to.
+const SUMMED_ENTRY: &str = "fn shade_set(lane: u32, wid: vec3<u32>, gbuffer_color: vec4<f32>, gbuffer_normal: vec4<f32>, gbuffer_depth: f32, light_diffuse: ptr<function, vec3<f32>>, light_specular: ptr<function, vec3<f32>>) {";
 
 /// The per-set libraries: their import paths, as the files name them.
 const SHADOW_MODULE: &str = "spreadlight::shadow_sampling";
@@ -240,13 +241,13 @@ pub fn entry_source(sets: usize, summed: bool) -> String {
          fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: vec3<u32>) {\n",
     );
     if summed {
-        out.push_str("    var diffuse = vec3<f32>(0.0);\n    var specular = vec3<f32>(0.0);\n");
+        out.push_str(LOAD_TEXELS);
     }
     for i in 0..sets {
         if summed {
             let _ = writeln!(
                 out,
-                "    set_{i}::shade_set(lane, wid, &diffuse, &specular);"
+                "    set_{i}::shade_set(lane, wid, texel_color, texel_normal, texel_depth, &diffuse, &specular);"
             );
         } else {
             let _ = writeln!(out, "    set_{i}::shade_set(lane, wid);");
@@ -259,9 +260,13 @@ pub fn entry_source(sets: usize, summed: bool) -> String {
     out
 }
 
-/// The sums' targets (binding numbers below every set's, above the
-/// single loop's and its libraries').
+/// The sums' targets and the G-buffer the entry reads once for all sets
+/// (binding numbers below every set's, above the single loop's and its
+/// libraries').
 const SUM_TARGETS: &str = "
+@group(0) @binding(42) var gbuffer_color: texture_2d<f32>;
+@group(0) @binding(43) var gbuffer_normals: texture_2d<f32>;
+@group(0) @binding(44) var gbuffer_depth: texture_2d<f32>;
 #ifdef SUM_DIFFUSE
 @group(0) @binding(40) var sum_diffuse: texture_storage_2d<rgba16float, write>;
 #endif
@@ -270,12 +275,26 @@ const SUM_TARGETS: &str = "
 #endif
 ";
 
-/// The sums stored at the lane's pixel (as the light loop places it: 8x4
-/// blocks per 32 lanes), clamped below half-float overflow as each set's
-/// terms were; a pixel of background stores the zeros it summed.
-const STORE_SUMS: &str = "    let warp = lane / 32u;
+/// The lane's pixel (as the light loop places it: 8x4 blocks per 32
+/// lanes), its G-buffer texels read once (each set read them itself), and
+/// the sums.
+const LOAD_TEXELS: &str = "    let warp = lane / 32u;
     let pixel = wid.xy * 16u + vec2<u32>((warp & 1u) * 8u + (lane & 7u), (warp >> 1u) * 4u + ((lane >> 3u) & 3u));
-#ifdef SUM_DIFFUSE
+    var texel_color = vec4<f32>(0.0);
+    var texel_normal = vec4<f32>(0.0);
+    var texel_depth = 0.0;
+    if (all(pixel < textureDimensions(gbuffer_depth))) {
+        texel_depth = textureLoad(gbuffer_depth, pixel, 0).r;
+        texel_normal = textureLoad(gbuffer_normals, pixel, 0);
+        texel_color = textureLoad(gbuffer_color, pixel, 0);
+    }
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
+";
+
+/// The sums stored at the lane's pixel, clamped below half-float overflow
+/// as each set's terms were; a pixel of background stores the zeros it summed.
+const STORE_SUMS: &str = "#ifdef SUM_DIFFUSE
     if (all(pixel < textureDimensions(sum_diffuse))) {
         textureStore(sum_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(65000.0)), 1.0));
     }

@@ -216,8 +216,14 @@ fn summed_sets_write_their_sums_and_only_the_targets_asked_for() {
                     "{renamed} with {defs:?}"
                 );
             }
-            // The surface is still each set's: its G-buffer reads stay bound.
-            assert!(used(&module, &source::set_binding(i, "depth")));
+            // The G-buffer is read once, by the entry, not by each set.
+            for var in ["color", "normals", "depth"] {
+                let renamed = source::set_binding(i, var);
+                assert!(!used(&module, &renamed), "{renamed} with {defs:?}");
+            }
+        }
+        for var in ["gbuffer_color", "gbuffer_normals", "gbuffer_depth"] {
+            assert!(used(&module, var), "{var} with {defs:?}");
         }
     }
 }
