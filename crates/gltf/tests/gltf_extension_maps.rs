@@ -1555,7 +1555,11 @@ fn reflected_stripe(renderer: &Renderer, model: &[u8]) -> (ImageF32, bool) {
             (0..width).map(move |x| {
                 let phi = ((x as f32 + 0.5) / width as f32 - 0.5) * std::f32::consts::TAU;
                 let theta = (y as f32 + 0.5) / height as f32 * std::f32::consts::PI;
-                let d = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
+                let d = Vec3::new(
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                    -theta.sin() * phi.cos(),
+                );
                 let l = stripe_radiance(d);
                 [l, l, l, 1.0]
             })
@@ -1650,18 +1654,29 @@ fn anisotropic_reflection_follows_the_bent_normal() {
     for (i, p, u, _) in inner_pixels() {
         let [r, g, b] = texels[u].map(|c| c as f32 / 255.0);
         let v = (eye - p).normalize();
-        let t = anisotropy_tangent(Vec3::Z, Vec3::X, Vec3::Y, anisotropy_direction(0.0, Some([r, g])))
-            .expect("a direction");
+        let t = anisotropy_tangent(
+            Vec3::Z,
+            Vec3::X,
+            Vec3::Y,
+            anisotropy_direction(0.0, Some([r, g])),
+        )
+        .expect("a direction");
         let bent = anisotropic_bent_normal(Vec3::Z, v, t, 0.0, b);
         let reflected = (2.0 * v.dot(bent) * bent - v).normalize();
         let mirrored = Vec3::new(-v.x, -v.y, v.z);
         let clear = |d: Vec3| STRIPE.iter().all(|edge| (d.x - edge).abs() > 0.025);
         if clear(mirrored) && stripe_radiance(mirrored) > 1.0 {
             plain_band[u] += 1;
-            assert!(plain.pixels[i][0] > 1.0, "pixel {i}: the mirror shows the band");
+            assert!(
+                plain.pixels[i][0] > 1.0,
+                "pixel {i}: the mirror shows the band"
+            );
         }
         if u == 0 {
-            assert!(plain.pixels[i][0] < 1.0, "pixel {i}: the mirror shows no band on the left");
+            assert!(
+                plain.pixels[i][0] < 1.0,
+                "pixel {i}: the mirror shows no band on the left"
+            );
         }
         if !clear(reflected) {
             continue;
@@ -1679,5 +1694,8 @@ fn anisotropic_reflection_follows_the_bent_normal() {
     }
     assert!(checked[0] > 250 && checked[1] > 250, "{checked:?}");
     assert!(plain_band[1] > 40, "{plain_band:?}");
-    assert!(band[0] > 40 && band[1] > 40, "the band on both halves: {band:?}");
+    assert!(
+        band[0] > 40 && band[1] > 40,
+        "the band on both halves: {band:?}"
+    );
 }

@@ -194,7 +194,11 @@ pub fn anisotropic_bent_normal(
     strength: f32,
 ) -> Vec3 {
     let along = direction - n * n.dot(direction);
-    let strength = if strength > 0.0 { strength.min(1.0) } else { 0.0 };
+    let strength = if strength > 0.0 {
+        strength.min(1.0)
+    } else {
+        0.0
+    };
     if along.length_squared() <= 1e-12 || strength <= 0.0 {
         return n;
     }
@@ -445,7 +449,10 @@ mod tests {
             (v, Vec3::ZERO, 1.0),
         ] {
             let b = anisotropic_bent_normal(n, v, d, 0.0, s);
-            assert!(b.is_finite() && (b.length() - 1.0).abs() < 1e-5, "{v} {d} {s}: {b}");
+            assert!(
+                b.is_finite() && (b.length() - 1.0).abs() < 1e-5,
+                "{v} {d} {s}: {b}"
+            );
         }
     }
 }

@@ -658,12 +658,18 @@ fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
                 // The environment's irradiance / pi without a coat.
                 let bare = uncoated.as_ref().map_or(light, |u| u.pixel(x, y));
                 for c in &bare[..3] {
-                    assert!((c - radiance).abs() < 0.03 * radiance, "({x}, {y}): {bare:?}");
+                    assert!(
+                        (c - radiance).abs() < 0.03 * radiance,
+                        "({x}, {y}): {bare:?}"
+                    );
                 }
                 if p.y > 0.05 {
                     // The ball, uncoated: as it was.
                     for c in 0..3 {
-                        assert!((light[c] - bare[c]).abs() < 2e-3, "ball ({x}, {y}): {light:?}");
+                        assert!(
+                            (light[c] - bare[c]).abs() < 2e-3,
+                            "ball ({x}, {y}): {light:?}"
+                        );
                     }
                 }
                 if p.y.abs() > 1e-3 || p.length() < 1.5 {

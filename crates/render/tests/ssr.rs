@@ -472,7 +472,11 @@ fn a_mirror_coat_over_a_rough_floor_reflects_the_ball_in_ssr() {
             SIZE,
         );
         assert!(image.all_finite());
-        assert_eq!(coat_keys(&renderer) > 0, coat > 0.0, "CLEARCOAT only with a coat");
+        assert_eq!(
+            coat_keys(&renderer) > 0,
+            coat > 0.0,
+            "CLEARCOAT only with a coat"
+        );
         let (mut agree, mut total, mut ball_hits) = (0, 0, 0);
         for y in 0..SIZE.1 {
             for x in 0..SIZE.0 {

@@ -43,8 +43,13 @@ impl SsrKey {
 
 impl Permutation for SsrKey {
     crate::shader_file!("environment/ssr.wgsl");
-    const FEATURES: &'static [&'static str] =
-        &["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET", "TEMPORAL", "CLEARCOAT"];
+    const FEATURES: &'static [&'static str] = &[
+        "MATERIAL_TEXTURES",
+        "HALF",
+        "SURFACE_TARGET",
+        "TEMPORAL",
+        "CLEARCOAT",
+    ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
         let target = match self.target {
