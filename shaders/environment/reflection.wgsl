@@ -25,7 +25,15 @@
 // 1 - factor x F(N.V), as CookTorrance's light walk does for each light
 // (Khronos' sample viewer's clear coat IBL). Reflect mode only: refraction
 // shows what the surface lets through, base and coat alike. The diffuse
-// output (irradiance, for every surface) is not dimmed.
+// output (irradiance, for every surface) is dimmed by the same
+// 1 - factor x F(N.V), as the light walk dims the base's diffuse: what the
+// coat reflects never reaches the base.
+// ANISOTROPY (the G-buffer has an anisotropy target: some material has
+// KHR_materials_anisotropy): for such a material's pixels the environment is
+// read along the reflection about the bent normal of the extension and the
+// Khronos sample viewer (lib/anisotropy.wgsl's anisotropic_bent_normal,
+// bent more the stronger the anisotropy and the smoother the surface), at
+// the material's roughness; the split sum keeps the pixel's own N.V.
 // IRIDESCENCE (some material has the Iridescence feature): a film's
 // Fresnel at N.V (lib/iridescence.wgsl) replaces the split sum's Schlick
 // term, mixed by its factor: (1 - k) (F0 A + B) + k F_film (A + B), the
@@ -45,6 +53,10 @@
 #ifdef CLEARCOAT
 #import spreadlight::material::{clearcoat_at, clearcoat_normal_at}
 #import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
+#endif
+#ifdef ANISOTROPY
+#import spreadlight::material::FEATURE_ANISOTROPY
+#import spreadlight::anisotropy::anisotropic_bent_normal
 #endif
 #ifdef IRIDESCENCE
 #import spreadlight::material::iridescence_at
@@ -80,6 +92,24 @@ struct Params {
 @group(0) @binding(8) var cube_sampler: sampler;
 @group(0) @binding(9) var out_specular: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var out_diffuse: texture_storage_2d<rgba16float, write>;
+#ifdef ANISOTROPY
+// View-space anisotropy direction (rgb) and strength (a), written by the
+// G-buffer resolve for pixels of Anisotropy materials only.
+@group(0) @binding(12) var anisotropy_target: texture_2d<f32>;
+#endif
+#ifdef CLEARCOAT
+// The coat's own normal at `pixel` (its map's, else `n`), facing the viewer.
+fn coat_normal(pixel: vec2<u32>, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+    return facing_normal(safe_normalize(clearcoat_normal_at(pixel, n), n), v);
+}
+
+// 1 - factor x F(N_c.V), F Schlick's at f0 0.04: what a coat of `factor`
+// lets reach the base and leave it (CookTorrance's dimming under a light).
+fn coat_dim(factor: f32, coat_n: vec3<f32>, v: vec3<f32>) -> f32 {
+    let n_dot_v = clamp(dot(coat_n, v), 1e-4, 1.0);
+    return 1.0 - factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(n_dot_v));
+}
+#endif
 #ifdef PARALLAX
 // Matches `GpuProbeVolume` in crates/render/src/environment/probe/mod.rs.
 struct ProbeVolume {
@@ -157,7 +187,16 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
         factor = mix(factor, film_f * split_sum(lut, cube_sampler, vec3<f32>(1.0), n_dot_v, roughness), film.x);
     }
 #endif
-    var dir = reflect(-v, n);
+    // The normal the reflection is mirrored about: the pixel's, or the
+    // anisotropic lobe's bent normal.
+    var mirror_n = n;
+#ifdef ANISOTROPY
+    if (has_feature(material, FEATURE_ANISOTROPY)) {
+        let aniso = textureLoad(anisotropy_target, pixel, 0);
+        mirror_n = anisotropic_bent_normal(n, v, aniso.xyz, roughness, aniso.w);
+    }
+#endif
+    var dir = reflect(-v, mirror_n);
     var weight = factor;
     if (params.mode == 1u) {
         let t = refract(-v, n, 1.0 / max(params.ior, 1e-3));
@@ -183,10 +222,10 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
         // Scaled by its maps where the G-buffer resolved them.
         let coat = clamp(clearcoat_at(material, pixel), vec2<f32>(0.0), vec2<f32>(1.0));
         if (coat.x > 0.0) {
-            let coat_n = facing_normal(safe_normalize(clearcoat_normal_at(pixel, n), n), v);
+            let coat_n = coat_normal(pixel, n, v);
             let coat_n_dot_v = clamp(dot(coat_n, v), 1e-4, 1.0);
             // What the coat reflects does not reach the base, nor leave it.
-            let dim = 1.0 - coat.x * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_n_dot_v));
+            let dim = coat_dim(coat.x, coat_n, v);
             let coat_weight = split_sum(lut, cube_sampler, vec3<f32>(DIELECTRIC_F0), coat_n_dot_v, coat.y);
             let coat_light = environment_along(p, reflect(-v, coat_n), coat.y) * coat_weight;
             specular = specular * dim + coat.x * coat_light;
@@ -225,6 +264,13 @@ fn diffuse_at(pixel: vec2<u32>) -> vec4<f32> {
     let sheen = sheen_of(channel_to_id(textureLoad(color, pixel, 0).a));
     if (any(sheen.rgb > vec3<f32>(0.0))) {
         light *= sheen_scaling(sheen.rgb, clamp(dot(n, v), 1e-4, 1.0), sheen.a);
+    }
+#endif
+#ifdef CLEARCOAT
+    // Nor what a coat reflects (it lies over the sheen too).
+    let coat = clamp(clearcoat_at(channel_to_id(textureLoad(color, pixel, 0).a), pixel), vec2<f32>(0.0), vec2<f32>(1.0));
+    if (coat.x > 0.0) {
+        light *= coat_dim(coat.x, coat_normal(pixel, n, v), v);
     }
 #endif
     return clean(light);

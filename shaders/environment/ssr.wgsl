@@ -26,6 +26,13 @@
 // where fallback is Reflection's specular: the same quantity from the
 // environment, so the two are interchangeable.
 //
+// CLEARCOAT (trace only; some material has a clear coat): a coated pixel
+// also traces the coat's lobe (its normal, its roughness, f0 0.04: one
+// mirror ray for a smooth coat, else `rays` GGX rays) and mixes the two as
+// Reflection does: base x (1 - factor F(N_c.V)) + factor x coat, each
+// lobe's hits times its split sum; the fallback fills in by the lobes'
+// confidences weighted by their split sums.
+//
 // HALF (trace only): one pixel per 2x2 block, into a half-size output that
 // crates/render/src/resolution.rs upsamples with depth awareness.
 //
@@ -38,6 +45,10 @@
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal, importance_sample_ggx, hammersley}
 #import spreadlight::material::{feature_param_at, has_feature, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION}
+#ifdef CLEARCOAT
+#import spreadlight::material::{clearcoat_at, clearcoat_normal_at}
+#import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
+#endif
 
 struct Params {
     max_steps: u32,
@@ -316,16 +327,54 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let factor = split_sum(lut, lut_sampler, f0, n_dot_v, roughness);
     // Start a little off the surface, more for far surfaces (depth precision).
     let origin = p + n * (0.01 + 0.002 * -p.z);
+    let rays = max(params.rays, 1u);
+    let base = trace_lobe(pixel, origin, v, n, roughness, rays, 0u);
+    let fall = clean(textureLoad(fallback, pixel, 0).rgb);
+    var reflected = base.radiance * factor;
+    var c = base.confidence;
+#ifdef CLEARCOAT
+    let coat = clamp(clearcoat_at(material, pixel), vec2<f32>(0.0), vec2<f32>(1.0));
+    if (coat.x > 0.0) {
+        let coat_n = facing_normal(safe_normalize(clearcoat_normal_at(pixel, n), n), v);
+        let coat_n_dot_v = clamp(dot(coat_n, v), 1e-4, 1.0);
+        // What the coat reflects does not reach the base, nor leave it.
+        let dim = 1.0 - coat.x * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_n_dot_v));
+        let coat_factor = coat.x * split_sum(lut, lut_sampler, vec3<f32>(DIELECTRIC_F0), coat_n_dot_v, coat.y);
+        // A smooth coat (car paint) is one mirror ray, whatever `rays`.
+        let coat_rays = select(rays, 1u, coat.y < 0.02);
+        let lobe = trace_lobe(pixel, origin, v, coat_n, coat.y, coat_rays, 1u);
+        // The fallback holds both lobes' environment: each lobe's misses
+        // take their share of it, by the lobes' split-sum weights.
+        let base_share = dim * max(max(factor.x, factor.y), factor.z);
+        let coat_share = max(max(coat_factor.x, coat_factor.y), coat_factor.z);
+        c = (base_share * c + coat_share * lobe.confidence) / max(base_share + coat_share, 1e-6);
+        reflected = reflected * dim + lobe.radiance * coat_factor;
+    }
+#endif
+    store(pixel, reflected + (1.0 - clamp(c, 0.0, 1.0)) * fall);
+}
+
+// One lobe's rays: the N.L-weighted mean of hit radiance times confidence,
+// and the mean confidence (both 0 when no ray leaves above the surface).
+struct Lobe {
+    radiance: vec3<f32>,
+    confidence: f32,
+}
+
+// `rays` rays of the GGX lobe of `roughness` about `n` (the mirror ray
+// below roughness 0.02) from view-space `origin`; `salt` decorrelates the
+// jitter of a second lobe at the same pixel.
+fn trace_lobe(pixel: vec2<u32>, origin: vec3<f32>, v: vec3<f32>, n: vec3<f32>, roughness: f32, rays: u32, salt: u32) -> Lobe {
     var sum = vec3<f32>(0.0);
     var confidence = 0.0;
     var weight = 0.0;
-    let rays = max(params.rays, 1u);
     for (var k = 0u; k < rays; k++) {
         var l = reflect(-v, n);
         if (roughness >= 0.02) {
+            let ray = k + salt * 7717u;
             var xi = hammersley(k, rays);
-            xi.x = fract(xi.x + jitter(pixel, params.frame, k));
-            xi.y = fract(xi.y + jitter(pixel, params.frame, k + 977u) / f32(rays));
+            xi.x = fract(xi.x + jitter(pixel, params.frame, ray));
+            xi.y = fract(xi.y + jitter(pixel, params.frame, ray + 977u) / f32(rays));
             let h = importance_sample_ggx(xi, max(roughness * roughness, 1e-3), n);
             l = reflect(-v, h);
         }
@@ -338,13 +387,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         confidence += t.confidence * n_dot_l;
         weight += n_dot_l;
     }
-    let fall = clean(textureLoad(fallback, pixel, 0).rgb);
     if (weight <= 0.0) {
-        store(pixel, fall);
-        return;
+        return Lobe(vec3<f32>(0.0), 0.0);
     }
-    let c = clamp(confidence / weight, 0.0, 1.0);
-    store(pixel, sum / weight * factor + (1.0 - c) * fall);
+    return Lobe(sum / weight, clamp(confidence / weight, 0.0, 1.0));
 }
 
 // This frame's reflection `c` at `pixel` blended with last frame's, with

@@ -79,3 +79,25 @@ fn anisotropic_weights_scaled(s: BrdfSurface, a: AnisotropicSurface, l: vec3<f32
     let specular = d * visibility * scaled;
     return vec3<f32>(specular, specular * w, scaled - scaled * w);
 }
+
+// The normal image-based light mirrors the view about on an anisotropic
+// surface (the extension's and the Khronos sample viewer's bent normal):
+// the view projected onto the plane of the normal and the anisotropy
+// direction t (the stretched lobe's reflections lie about it), mixed with
+// the normal by (1 - strength (1 - roughness))^4, so a smooth, strongly
+// anisotropic surface bends all the way and a rough or weak one hardly.
+// `direction` any length, view space as `n` and `v`; no direction left
+// after removing its normal part, or no strength (NaN too): `n`.
+fn anisotropic_bent_normal(n: vec3<f32>, v: vec3<f32>, direction: vec3<f32>, roughness: f32, strength_in: f32) -> vec3<f32> {
+    let along = direction - n * dot(n, direction);
+    let strength = select(0.0, min(strength_in, 1.0), strength_in > 0.0);
+    if (!(dot(along, along) > 1e-12) || strength <= 0.0) {
+        return n;
+    }
+    let t = normalize(along);
+    let b = cross(n, t);
+    let anisotropic_normal = cross(cross(b, v), b);
+    let bend = 1.0 - strength * (1.0 - clamp(roughness, 0.0, 1.0));
+    let bend2 = bend * bend;
+    return safe_normalize(mix(anisotropic_normal, n, bend2 * bend2), n);
+}

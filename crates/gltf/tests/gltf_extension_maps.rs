@@ -15,7 +15,10 @@
 //! anisotropy target into CookTorrance, against the CPU anisotropic lobe
 //! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`
 //! (factor-only: its maps are not sampled yet): the film's Fresnel at every
-//! inner pixel against `reference::iridescence`.
+//! inner pixel against `reference::iridescence`. And image-based anisotropy:
+//! Reflection mirrors an anisotropic quad's view about the extension's bent
+//! normal (`reference::anisotropy::anisotropic_bent_normal`), so an
+//! environment's bright stripe shows where the CPU reference says.
 
 // The post tests' scene helpers, shared with the renderer's tests.
 use crate::post_common;
@@ -31,7 +34,7 @@ use post_common::*;
 use spreadlight_gltf::builder::{Doc, png, quad};
 use spreadlight_gltf::load_gltf_slice;
 use spreadlight_reference::anisotropy::{
-    anisotropy_direction, anisotropy_tangent, cook_torrance_anisotropic,
+    anisotropic_bent_normal, anisotropy_direction, anisotropy_tangent, cook_torrance_anisotropic,
 };
 use spreadlight_reference::brdf::{clearcoat, cook_torrance_f0};
 use spreadlight_reference::iridescence::{Film, cook_torrance_iridescent};
@@ -1517,4 +1520,182 @@ fn lit_transparency_draws_the_sheen() {
         checked += 1;
     }
     assert!(checked > 600, "{checked} pixels checked");
+}
+
+/// The stripe environment of [`anisotropic_reflection_follows_the_bent_normal`]:
+/// radiance 4 where 0.1 < d.x < 0.2 (a band of directions towards +x),
+/// 0.25 elsewhere.
+fn stripe_radiance(d: Vec3) -> f32 {
+    if d.x > STRIPE[0] && d.x < STRIPE[1] {
+        4.0
+    } else {
+        0.25
+    }
+}
+
+/// The band's edges in d.x.
+const STRIPE: [f32; 2] = [0.1, 0.2];
+
+/// Reflection's specular of `model` (its materials given the Reflection
+/// feature) in an environment of [`stripe_radiance`], and whether the
+/// frame compiled Reflection's ANISOTROPY.
+fn reflected_stripe(renderer: &Renderer, model: &[u8]) -> (ImageF32, bool) {
+    use common::world_and_layer_of;
+    use spreadlight_render::environment::{
+        Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, Reflection,
+        ReflectionMode,
+    };
+    use spreadlight_render::material::Feature;
+    // Fine enough (0.006 rad a texel) that the band's edges lie where
+    // `stripe_radiance` puts them, within the cube's texel.
+    let (width, height) = (1024u32, 512u32);
+    // Texel (x, y)'s direction: the inverse of `reference::reflection::equirect_uv`.
+    let pixels = (0..height)
+        .flat_map(|y| {
+            (0..width).map(move |x| {
+                let phi = ((x as f32 + 0.5) / width as f32 - 0.5) * std::f32::consts::TAU;
+                let theta = (y as f32 + 0.5) / height as f32 * std::f32::consts::PI;
+                let d = Vec3::new(
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                    -theta.sin() * phi.cos(),
+                );
+                let l = stripe_radiance(d);
+                [l, l, l, 1.0]
+            })
+        })
+        .collect();
+    let environment = Environment::new(
+        renderer,
+        None,
+        EnvironmentSource::Equirect(Arc::new(EquirectImage {
+            width,
+            height,
+            pixels,
+        })),
+        EnvironmentQuality {
+            cube_size: 128,
+            samples: 8,
+        },
+    );
+    let scene = load_gltf_slice(model, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let reflective = |m: spreadlight_render::material::Material| {
+        m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
+            .expect("valid")
+    };
+    let (world, layer) = world_and_layer_of(
+        renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+        reflective,
+    );
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![layer],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let r = Reflection::new(
+        renderer,
+        None,
+        g,
+        world,
+        environment,
+        ReflectionMode::Reflect,
+    );
+    let (report, images) =
+        render_and_read(renderer, r.as_ref(), SIZE, &[&r.specular]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let image = images.into_iter().next().expect("specular");
+    assert!(image.all_finite(), "no NaN or infinity");
+    let anisotropic = renderer
+        .shaders()
+        .compiled_keys()
+        .any(|k| k.path() == "environment/reflection.wgsl" && k.features.contains("ANISOTROPY"));
+    (image, anisotropic)
+}
+
+/// Image-based anisotropy: a mirror metal quad (roughness 0) whose
+/// anisotropyTexture points along the tangent (+x) at strength 1 on the
+/// left half and along the bitangent (+y) at strength 0.5 on the right, in
+/// an environment with a bright band of directions towards +x
+/// ([`stripe_radiance`]). Reflection reads the environment along the
+/// reflection about the bent normal (the view projected onto the plane of
+/// the normal and the direction, mixed with the normal by
+/// (1 - strength (1 - roughness))^4): along the tangent the reflection
+/// keeps the view's x where a mirror flips it, so the band, which the plain
+/// mirror shows on the right half only, shows on the left half too; along
+/// the bitangent the x flip stays and the band stays on the right. Every
+/// inner pixel whose reflected direction lies clear of the band's edges
+/// (0.025 in d.x: two cube texels of the 128 cube) against the CPU's band radiance along
+/// that direction times Schlick's Fresnel of the albedo at N.V (the split
+/// sum at roughness 0) within 0.03 + 5%, as the mirror floor test. The
+/// plain file compiles no ANISOTROPY in Reflection.
+#[test]
+fn anisotropic_reflection_follows_the_bent_normal() {
+    let renderer = test_renderer();
+    let (plain, compiled) = reflected_stripe(&renderer, &model(metal_material(0.0), "{}", &[]));
+    assert!(!compiled, "no anisotropy, no ANISOTROPY in Reflection");
+    let map = halves([255, 128, 255, 255], [128, 255, 128, 255], false);
+    let ext = r#"{"KHR_materials_anisotropy": {"anisotropyStrength": 1.0,
+        "anisotropyTexture": {"index": {0}}}}"#;
+    let (image, compiled) = reflected_stripe(&renderer, &model(metal_material(0.0), ext, &[map]));
+    assert!(compiled, "Reflection's ANISOTROPY");
+    let texels = [[255u8, 128, 255], [128, 255, 128]];
+    let eye = Vec3::Z * DISTANCE;
+    let fresnel = |n_dot_v: f32| {
+        Vec3::from(ALBEDO) + (Vec3::ONE - Vec3::from(ALBEDO)) * (1.0 - n_dot_v).powi(5)
+    };
+    let (mut checked, mut band, mut plain_band) = ([0; 2], [0; 2], [0; 2]);
+    for (i, p, u, _) in inner_pixels() {
+        let [r, g, b] = texels[u].map(|c| c as f32 / 255.0);
+        let v = (eye - p).normalize();
+        let t = anisotropy_tangent(
+            Vec3::Z,
+            Vec3::X,
+            Vec3::Y,
+            anisotropy_direction(0.0, Some([r, g])),
+        )
+        .expect("a direction");
+        let bent = anisotropic_bent_normal(Vec3::Z, v, t, 0.0, b);
+        let reflected = (2.0 * v.dot(bent) * bent - v).normalize();
+        let mirrored = Vec3::new(-v.x, -v.y, v.z);
+        let clear = |d: Vec3| STRIPE.iter().all(|edge| (d.x - edge).abs() > 0.025);
+        if clear(mirrored) && stripe_radiance(mirrored) > 1.0 {
+            plain_band[u] += 1;
+            assert!(
+                plain.pixels[i][0] > 1.0,
+                "pixel {i}: the mirror shows the band"
+            );
+        }
+        if u == 0 {
+            assert!(
+                plain.pixels[i][0] < 1.0,
+                "pixel {i}: the mirror shows no band on the left"
+            );
+        }
+        if !clear(reflected) {
+            continue;
+        }
+        let want = stripe_radiance(reflected) * fresnel(v.z);
+        let got = image.pixels[i];
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.03 + 0.05 * want[c],
+                "pixel {i} (half {u}): {got:?}, the reference says {want} (along {reflected})"
+            );
+        }
+        checked[u] += 1;
+        band[u] += usize::from(stripe_radiance(reflected) > 1.0);
+    }
+    assert!(checked[0] > 250 && checked[1] > 250, "{checked:?}");
+    assert!(plain_band[1] > 40, "{plain_band:?}");
+    assert!(
+        band[0] > 40 && band[1] > 40,
+        "the band on both halves: {band:?}"
+    );
 }

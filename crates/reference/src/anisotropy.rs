@@ -176,6 +176,39 @@ pub fn cook_torrance_anisotropic_default(
     )
 }
 
+/// The normal image-based light mirrors the view about on an anisotropic
+/// surface: the bent normal of the extension's text and the Khronos sample
+/// viewer (`getIBLRadianceAnisotropy`). The view projected onto the plane
+/// of `n` and the anisotropy direction (the anisotropic lobe's reflections
+/// spread about it along the direction), mixed with `n` by
+/// (1 - strength (1 - roughness))^4: a smooth surface of strength 1 bends
+/// all the way, a rough or weakly anisotropic one hardly. The viewer reads
+/// the prefiltered environment along the reflection about it at the
+/// material's roughness, and so do we. `direction` is any vector (its part
+/// along `n` is dropped); none left, or no strength (NaN too): `n`.
+pub fn anisotropic_bent_normal(
+    n: Vec3,
+    v: Vec3,
+    direction: Vec3,
+    roughness: f32,
+    strength: f32,
+) -> Vec3 {
+    let along = direction - n * n.dot(direction);
+    let strength = if strength > 0.0 {
+        strength.min(1.0)
+    } else {
+        0.0
+    };
+    if along.length_squared() <= 1e-12 || strength <= 0.0 {
+        return n;
+    }
+    let t = along.normalize();
+    let b = n.cross(t);
+    let anisotropic_normal = b.cross(v).cross(b);
+    let bend = 1.0 - strength * (1.0 - roughness.clamp(0.0, 1.0));
+    safe_normalize(anisotropic_normal.lerp(n, bend.powi(4)), n)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -385,5 +418,41 @@ mod tests {
             None
         );
         assert_eq!(anisotropic_alphas(0.0, 1.0), (1.0, MIN_ALPHA));
+    }
+
+    /// Strength 0 keeps the normal; strength 1 over a mirror bends it into
+    /// the plane of the normal and the direction, so the reflection keeps
+    /// the view's component along the direction (where a mirror flips it)
+    /// and flips the one across it; the bend shrinks with roughness; hard
+    /// cases (no direction, the view along the bitangent, NaN) stay finite.
+    #[test]
+    fn the_bent_normal_turns_the_reflection_along_the_direction() {
+        let n = Vec3::Z;
+        let v = dir(0.3, 0.2, 1.0);
+        assert_eq!(anisotropic_bent_normal(n, v, Vec3::X, 0.0, 0.0), n);
+        let bent = anisotropic_bent_normal(n, v, Vec3::X, 0.0, 1.0);
+        let r = 2.0 * v.dot(bent) * bent - v;
+        assert!((r - Vec3::new(v.x, -v.y, v.z)).length() < 1e-5, "{r}");
+        let mirror = 2.0 * v.dot(n) * n - v;
+        assert!((mirror - Vec3::new(-v.x, -v.y, v.z)).length() < 1e-5);
+        let half = anisotropic_bent_normal(n, v, Vec3::X, 0.5, 1.0);
+        let rough = anisotropic_bent_normal(n, v, Vec3::X, 1.0, 1.0);
+        assert!(half.angle_between(n) < bent.angle_between(n));
+        assert!(rough.angle_between(n) < 1e-6, "roughness 1 does not bend");
+        // A direction given with a normal part: the same bend.
+        let tilted = anisotropic_bent_normal(n, v, Vec3::new(2.0, 0.0, 5.0), 0.0, 1.0);
+        assert!((tilted - bent).length() < 1e-6);
+        for (v, d, s) in [
+            (v, Vec3::Z, 1.0),
+            (Vec3::Y, Vec3::X, 1.0),
+            (v, Vec3::X, f32::NAN),
+            (v, Vec3::ZERO, 1.0),
+        ] {
+            let b = anisotropic_bent_normal(n, v, d, 0.0, s);
+            assert!(
+                b.is_finite() && (b.length() - 1.0).abs() < 1e-5,
+                "{v} {d} {s}: {b}"
+            );
+        }
     }
 }

@@ -572,8 +572,13 @@ fn the_sky_node_draws_an_environment_where_depth_is_empty() {
 /// S(f0, N.V) = f0 + (1 - f0)(1 - N.V)^5. So a floor whose base (f0 0: not
 /// metal, reflectance 0) and coat (factor c) are both mirrors reflects
 /// L [S(0, N.V) (1 - c S(0.04, N.V)) + c S(0.04, N.V)]: the base dimmed by
-/// what the coat reflects, and the coat's own lobe. Without a coat the
-/// CLEARCOAT permutation is not compiled.
+/// what the coat reflects, and the coat's own lobe. The diffuse output
+/// (irradiance E / pi = L, within the irradiance cube's 3%) is dimmed by
+/// what the coat reflects too, to the uncoated floor's times
+/// 1 - c S(0.04, N.V), as the light walk dims the base's diffuse, also in a
+/// world where nothing has the Reflection feature (the diffuse-only pass);
+/// the uncoated ball's stays as it was. Without a coat the CLEARCOAT
+/// permutation is not compiled.
 #[test]
 fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
     let renderer = test_renderer();
@@ -596,8 +601,14 @@ fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
     let floor = |coat: f32| {
         let m = Material::new()
             .with(Feature::CookTorrance, &[[0.0, 0.0, 0.0, 0.0]])
-            .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
             .expect("valid");
+        let m = if coat >= 0.0 {
+            m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
+                .expect("valid")
+        } else {
+            m
+        };
+        let coat = coat.abs();
         if coat > 0.0 {
             m.with(Feature::Clearcoat, &[[coat, 0.0, 0.0, 0.0]])
                 .expect("valid")
@@ -613,15 +624,25 @@ fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
             .count()
     };
     let schlick = |f0: f32, n_dot_v: f32| f0 + (1.0 - f0) * (1.0 - n_dot_v).powi(5);
-    for coat in [0.0, 1.0, 0.5] {
-        let (_, specular, _, depth) = reflect(
+    // A negative coat: that coat on a floor without the Reflection feature,
+    // in a world where nothing reflects (only the diffuse light is drawn).
+    let mut uncoated: Option<ImageF32> = None;
+    for coat in [0.0, 1.0, 0.5, -1.0] {
+        let ball = if coat < 0.0 {
+            Material::default_material()
+        } else {
+            reflective(0.5, 0.0)
+        };
+        let (report, specular, diffuse, depth) = reflect(
             &renderer,
             &g,
-            vec![reflective(0.5, 0.0), floor(coat)],
+            vec![ball, floor(coat)],
             environment.clone(),
             ReflectionMode::Reflect,
         );
-        assert!(specular.all_finite());
+        assert!(specular.all_finite() && diffuse.all_finite());
+        let (reflects, coat) = (coat >= 0.0, coat.abs());
+        assert_eq!(report.counter("reflection skipped"), u64::from(!reflects));
         if coat == 0.0 {
             assert_eq!(coat_keys(&renderer), 0, "no coat, no CLEARCOAT");
         }
@@ -633,12 +654,41 @@ fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
                     continue;
                 }
                 let p = world_position(&g, x, y, d);
+                let light = diffuse.pixel(x, y);
+                // The environment's irradiance / pi without a coat.
+                let bare = uncoated.as_ref().map_or(light, |u| u.pixel(x, y));
+                for c in &bare[..3] {
+                    assert!(
+                        (c - radiance).abs() < 0.03 * radiance,
+                        "({x}, {y}): {bare:?}"
+                    );
+                }
+                if p.y > 0.05 {
+                    // The ball, uncoated: as it was.
+                    for c in 0..3 {
+                        assert!(
+                            (light[c] - bare[c]).abs() < 2e-3,
+                            "ball ({x}, {y}): {light:?}"
+                        );
+                    }
+                }
                 if p.y.abs() > 1e-3 || p.length() < 1.5 {
                     continue; // the ball, or the floor next to it
                 }
                 let n_dot_v = (EYE - p).normalize().y;
                 let lobe = coat * schlick(0.04, n_dot_v);
-                let want = radiance * (schlick(0.0, n_dot_v) * (1.0 - lobe) + lobe);
+                for c in 0..3 {
+                    let dimmed = bare[c] * (1.0 - lobe);
+                    assert!(
+                        (light[c] - dimmed).abs() < 2e-3,
+                        "coat {coat}, pixel ({x}, {y}), N.V {n_dot_v}: diffuse {light:?}, {bare:?} dimmed {dimmed}"
+                    );
+                }
+                let want = if reflects {
+                    radiance * (schlick(0.0, n_dot_v) * (1.0 - lobe) + lobe)
+                } else {
+                    0.0
+                };
                 let got = specular.pixel(x, y);
                 for c in &got[..3] {
                     assert!(
@@ -655,5 +705,6 @@ fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
             assert!(coat_keys(&renderer) > 0, "a coat compiles CLEARCOAT");
             assert!(largest_lobe > 0.05, "a lobe worth testing: {largest_lobe}");
         }
+        uncoated.get_or_insert(diffuse);
     }
 }

@@ -1,7 +1,9 @@
 //! SSR: a mirror floor reflects the ball where the CPU ray tracer says,
 //! misses and rays leaving the screen fall back, nothing non-finite reaches
-//! a target, the history survives a NaN, a cut and a resize, and the passes
-//! run only when a material reflects and the output is wanted.
+//! a target, the history survives a NaN, a cut and a resize, the passes
+//! run only when a material reflects and the output is wanted, and a
+//! mirror clear coat over a rough floor reflects the ball as its own lobe
+//! (the coat's Fresnel) where the rough base alone shows nothing.
 
 use crate::reflection_scene;
 
@@ -15,7 +17,7 @@ use spreadlight_render::Renderer;
 use spreadlight_render::environment::{Ssr, SsrSettings};
 use spreadlight_render::frame_graph::TextureDesc;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::material::{Material, MaterialWorld};
+use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
@@ -407,4 +409,112 @@ fn at_full_resolution_the_trace_blends_its_history_in_as_a_resolve_pass_would() 
     assert_eq!(report.counter(TRACE_TEMPORAL), 0);
     assert_eq!(report.passes_of("SSR", Some("resolve")).count(), 1);
     assert!(image.all_finite());
+}
+
+/// The clear coat in SSR: a floor whose base is rough (roughness 1) and
+/// reflects little (f0 0: its split sum is at most 0.01 where N.V > 0.3)
+/// under a mirror coat of factor 1. Uncoated, no floor pixel shows the ball
+/// (red under 0.4 x the coat's Fresnel S(0.04, N.V) wherever the mirror ray
+/// meets the ball); coated, the pixels whose mirror ray meets the ball (the
+/// CPU ray tracer's) are the ones showing it, at about the coat's Fresnel
+/// times the ball's radiance (1): the coat's lobe is traced on its own
+/// normal and roughness, one mirror ray, over the dimmed base. The fallback
+/// is black, so only hits count. SSR compiles CLEARCOAT only for the world
+/// with a coat.
+#[test]
+fn a_mirror_coat_over_a_rough_floor_reflects_the_ball_in_ssr() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let settings = SsrSettings {
+        max_steps: 256,
+        rays: 1,
+        temporal: false,
+        ..Default::default()
+    };
+    let floor = |coat: f32| {
+        let m = Material::new()
+            .with(Feature::CookTorrance, &[[1.0, 0.0, 0.0, 0.0]])
+            .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
+            .expect("valid");
+        if coat > 0.0 {
+            m.with(Feature::Clearcoat, &[[coat, 0.0, 0.0, 0.0]])
+                .expect("valid")
+        } else {
+            m
+        }
+    };
+    let coat_keys = |renderer: &Renderer| {
+        renderer
+            .shaders()
+            .compiled_keys()
+            .filter(|k| k.path() == "environment/ssr.wgsl" && k.features.contains("CLEARCOAT"))
+            .count()
+    };
+    let (_, images) =
+        render_and_read(&renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
+    let depth = &images[0];
+    let scene = BallsScene {
+        balls: vec![Sphere {
+            center: BALL.0,
+            radius: BALL.1,
+        }],
+        floor: 8.0,
+    };
+    let schlick = |n_dot_v: f32| 0.04 + 0.96 * (1.0 - n_dot_v).powi(5);
+    for coat in [0.0, 1.0] {
+        let (_, image, _) = ssr_frame(
+            &renderer,
+            &g,
+            vec![plain(), floor(coat)],
+            [0.0; 4],
+            settings,
+            None,
+            SIZE,
+        );
+        assert!(image.all_finite());
+        assert_eq!(
+            coat_keys(&renderer) > 0,
+            coat > 0.0,
+            "CLEARCOAT only with a coat"
+        );
+        let (mut agree, mut total, mut ball_hits) = (0, 0, 0);
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let d = depth.pixel(x, y)[0];
+                if d <= 0.0 {
+                    continue;
+                }
+                let p = world_position(&g, x, y, d);
+                let v = (EYE - p).normalize();
+                if p.y.abs() > 1e-3 || v.y < 0.3 {
+                    continue;
+                }
+                let r = Vec3::new(-v.x, v.y, -v.z);
+                let sees_ball = matches!(scene.trace(p + Vec3::Y * 1e-3, r), Some(h) if h.surface == Surface::Ball(0));
+                let red = image.pixel(x, y)[0];
+                let lobe = coat * schlick(v.y);
+                if coat == 0.0 {
+                    assert!(
+                        red < 0.4 * schlick(v.y),
+                        "uncoated ({x}, {y}): the rough base shows {red}"
+                    );
+                    continue;
+                }
+                assert!(
+                    red < 1.2 * lobe + 0.01,
+                    "({x}, {y}): {red}, more than the coat's lobe {lobe}"
+                );
+                total += 1;
+                ball_hits += usize::from(sees_ball);
+                agree += usize::from((red > 0.4 * lobe) == sees_ball);
+            }
+        }
+        if coat > 0.0 {
+            assert!(ball_hits > 20, "the ball is reflected in view: {ball_hits}");
+            assert!(
+                agree as f32 >= 0.9 * total as f32,
+                "{agree} of {total} floor pixels agree with the reference"
+            );
+        }
+    }
 }

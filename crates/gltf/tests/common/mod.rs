@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 use spreadlight_gltf::{GltfScene, MaterialData};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
-use spreadlight_render::material::MaterialWorld;
+use spreadlight_render::material::{Material, MaterialWorld};
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::{Renderer, SizeRule, TextureRef};
 
@@ -49,13 +49,25 @@ pub fn world_and_layer(
     transform: Mat4,
     color: [f32; 4],
 ) -> (Arc<MaterialWorld>, Arc<Layer>) {
+    world_and_layer_of(renderer, scene, transform, color, |m| m)
+}
+
+/// [`world_and_layer`] with every material of the world changed by
+/// `adapt` (a feature the file cannot give added, such as Reflection).
+pub fn world_and_layer_of(
+    renderer: &Renderer,
+    scene: &GltfScene,
+    transform: Mat4,
+    color: [f32; 4],
+    adapt: impl Fn(Material) -> Material,
+) -> (Arc<MaterialWorld>, Arc<Layer>) {
     let mesh = renderer
         .meshes
         .upload(&renderer.gpu, &scene.meshes[0])
         .expect("upload");
     let materials = std::iter::once(MaterialData::default())
         .chain(scene.materials.iter().cloned())
-        .map(|m| m.to_material())
+        .map(|m| adapt(m.to_material()))
         .collect();
     let world = MaterialWorld::new(renderer, materials);
     let instance = InstanceInput {

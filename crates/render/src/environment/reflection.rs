@@ -13,7 +13,10 @@
 //! A world with a Clearcoat material (CLEARCOAT) gives coated pixels the
 //! coat's own reflection of the environment (its normal, its roughness, f0
 //! 0.04) over the base's, dimmed by 1 - factor x F(N.V) as CookTorrance
-//! dims the base under each light.
+//! dims the base under each light; the diffuse light under a coat is
+//! dimmed by the same factor. A world with an anisotropic material
+//! (ANISOTROPY, the G-buffer's anisotropy target) reflects its pixels about
+//! the extension's bent normal.
 
 use std::sync::Arc;
 
@@ -163,6 +166,8 @@ impl Reflection {
             parallax: self.volume.is_some(),
             // Only a world with a coat compiles the coat's lobe.
             clearcoat: self.materials.any_has(FEATURE_CLEARCOAT),
+            // Only a reflective world's specular reads the anisotropy target.
+            anisotropy: self.active() && self.gbuffer.targets.anisotropy.is_some(),
             iridescence: self.materials.any_has(FEATURE_IRIDESCENCE),
             // Only a reflective world's passes read colours and materials.
             sheen: self.active() && self.materials.any_has(FEATURE_SHEEN),
@@ -233,12 +238,16 @@ impl Reflection {
         if specular {
             b = b
                 .texture_opt("out_specular", io.specular)
-                .texture_opt("surface_target", io.surface)
+                .texture_opt("anisotropy_target", io.anisotropy)
                 .buffer_opt("volume", self.volume.as_ref());
         }
-        // The diffuse entry reads the materials too where a sheen dims it.
-        if specular || self.key().sheen {
-            b = b.extend(self.materials.bindings(io.material_textures));
+        // The diffuse entry reads the materials too where a sheen or a coat
+        // dims it (a coat's factor where the surface target resolved its map).
+        let key = self.key();
+        if specular || key.sheen || key.clearcoat {
+            b = b
+                .texture_opt("surface_target", io.surface)
+                .extend(self.materials.bindings(io.material_textures));
         }
         match outputs {
             Outputs::Both => self.dispatch(cx, "both", "reflection", b),
@@ -249,7 +258,7 @@ impl Reflection {
 }
 
 /// What a Reflection pass declared: the diffuse pass of a world that does
-/// not reflect reads no colour and no surface.
+/// not reflect reads no colour and no surface (unless a coat dims it).
 struct ReflectionIo {
     color: Option<Tex>,
     normals: Tex,
@@ -259,6 +268,8 @@ struct ReflectionIo {
     /// Not in the diffuse pass of a world that does not reflect.
     specular: Option<Tex>,
     material_textures: Option<MaterialTextures>,
+    /// The G-buffer's anisotropy target, read where ANISOTROPY is compiled.
+    anisotropy: Option<Tex>,
 }
 
 /// Which of a Reflection's outputs a pass writes.
@@ -279,17 +290,27 @@ impl Recipe for Reflection {
         let g = &self.gbuffer.targets;
         self.environment.declare(renderer, fg);
         if !self.active() {
+            // A coated world dims the diffuse light under each coat: the
+            // pass reads the pixels' materials (and their resolved coat).
+            let coated = self.key().clearcoat;
             let mut pass = fg.pass(PassName::new("Reflection").step("diffuse"), self.owner);
             pass.read(self.environment.token());
             let (normals, depth) = (pass.read(&g.normals), pass.read(&g.depth));
+            let color = coated.then(|| pass.read(&g.color));
+            let surface = if coated {
+                pass.read_opt(g.surface.as_deref())
+            } else {
+                None
+            };
             let io = ReflectionIo {
-                color: None,
+                color,
                 normals,
                 depth,
-                surface: None,
+                surface,
                 diffuse: pass.write(&self.diffuse, hdr),
                 specular: None,
                 material_textures: None,
+                anisotropy: None,
             };
             pass.run(move |cx| self.run(cx, Outputs::Diffuse, &io));
             let mut pass = fg.pass(
@@ -321,6 +342,11 @@ impl Recipe for Reflection {
             ),
             diffuse: pass.write(&self.diffuse, hdr),
             specular: Some(pass.write(&self.specular, hdr)),
+            anisotropy: if self.key().anisotropy {
+                pass.read_opt(g.anisotropy.as_deref())
+            } else {
+                None
+            },
         };
         // The pipeline of the usual case, both outputs read (frame_graph/gather.rs).
         pass.will_dispatch(&self.key().key(), "both");

@@ -23,5 +23,9 @@ crate::flag_key! {
         /// Some material has a sheen: its image-based light and the base's
         /// dimming under it are compiled in.
         sheen: "SHEEN",
+        /// The G-buffer has an anisotropy target (some material has
+        /// KHR_materials_anisotropy): an anisotropic pixel's reflection is
+        /// mirrored about the extension's bent normal.
+        anisotropy: "ANISOTROPY",
     }
 }

@@ -14,6 +14,9 @@ pub struct SsrKey {
     /// The G-buffer has a surface target (surface maps, shader node
     /// materials), read in place of the materials' parameters.
     pub surface_target: bool,
+    /// Some material has a clear coat (CLEARCOAT): a coated pixel also
+    /// traces the coat's lobe, over the base dimmed by what it reflects.
+    pub clearcoat: bool,
     pub target: SsrTarget,
 }
 
@@ -33,14 +36,20 @@ impl SsrKey {
     pub const PLAIN: SsrKey = SsrKey {
         material_textures: false,
         surface_target: false,
+        clearcoat: false,
         target: SsrTarget::Full,
     };
 }
 
 impl Permutation for SsrKey {
     crate::shader_file!("environment/ssr.wgsl");
-    const FEATURES: &'static [&'static str] =
-        &["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET", "TEMPORAL"];
+    const FEATURES: &'static [&'static str] = &[
+        "MATERIAL_TEXTURES",
+        "HALF",
+        "SURFACE_TARGET",
+        "TEMPORAL",
+        "CLEARCOAT",
+    ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
         let target = match self.target {
@@ -52,6 +61,7 @@ impl Permutation for SsrKey {
             .then_some("MATERIAL_TEXTURES")
             .into_iter()
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
+            .chain(self.clearcoat.then_some("CLEARCOAT"))
             .chain(target)
     }
 
@@ -61,10 +71,13 @@ impl Permutation for SsrKey {
         both.into_iter()
             .flat_map(|material_textures| {
                 both.into_iter().flat_map(move |surface_target| {
-                    targets.map(|target| SsrKey {
-                        material_textures,
-                        surface_target,
-                        target,
+                    both.into_iter().flat_map(move |clearcoat| {
+                        targets.map(|target| SsrKey {
+                            material_textures,
+                            surface_target,
+                            clearcoat,
+                            target,
+                        })
                     })
                 })
             })

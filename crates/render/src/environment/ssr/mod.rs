@@ -11,6 +11,11 @@
 //! for one pixel in four ("trace (half)"), an "upsample" pass
 //! (crate::resolution) fills the full-size target with depth awareness, and
 //! with temporal accumulation a "resolve" pass blends it.
+//!
+//! A world with a Clearcoat material compiles `CLEARCOAT` into the trace:
+//! a coated pixel traces the coat's lobe as well (its normal, its
+//! roughness, f0 0.04) over the base's dimmed by what the coat reflects,
+//! as Reflection composes the two from the environment.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
@@ -25,7 +30,9 @@ use super::prefilter::{SplitSumStore, split_sum_table};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
+use crate::material::{
+    FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -233,6 +240,8 @@ impl Ssr {
         SsrKey {
             material_textures: self.textured(),
             surface_target: self.gbuffer.targets.surface.is_some(),
+            // Only a world with a coat traces the coat's lobe.
+            clearcoat: self.materials.any_has(FEATURE_CLEARCOAT),
             target,
         }
     }
