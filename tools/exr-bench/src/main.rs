@@ -286,6 +286,44 @@ fn one_core() {
         });
     }
     png_rows(&halves, size, repeats);
+    readback_rows(&halves, repeats);
+}
+
+/// Taking a `Rgba16Float` readback's bytes out of the mapped buffer: decoded
+/// to 32-bit floats a pixel at a time (what `readback.rs` did for every
+/// frame) against kept as halves (what it does now for such a texture).
+fn readback_rows(pixels: &[Pixel], repeats: usize) {
+    let bytes: Vec<u8> = pixels
+        .iter()
+        .flatten()
+        .flat_map(|&v| f16::from_f32(v).to_le_bytes())
+        .collect();
+    let best = |f: &dyn Fn() -> usize| {
+        let mut best = f64::MAX;
+        for _ in 0..repeats {
+            let start = cpu_seconds();
+            std::hint::black_box(f());
+            best = best.min(cpu_seconds() - start);
+        }
+        best * 1e3
+    };
+    let per_pixel = best(&|| {
+        let mut out: Vec<Pixel> = Vec::with_capacity(pixels.len());
+        for px in bytes.chunks_exact(8) {
+            let h = |i: usize| f16::from_le_bytes([px[i], px[i + 1]]).to_f32();
+            out.push([h(0), h(2), h(4), h(6)]);
+        }
+        out.len()
+    });
+    println!("| readback: to 32-bit floats, a pixel at a time (before) | {per_pixel:.0} | | |");
+    let kept = best(&|| {
+        let out: Vec<f16> = bytes
+            .chunks_exact(2)
+            .map(|b| f16::from_le_bytes([b[0], b[1]]))
+            .collect();
+        out.len()
+    });
+    println!("| readback: kept as halves (now) | {kept:.0} | | |");
 }
 
 /// PNG of the same frame (sRGB 8-bit, as `spreadlight` writes it): the

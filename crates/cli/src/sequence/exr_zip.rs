@@ -140,6 +140,18 @@ pub fn encode(
     Ok((out.into_inner(), spent))
 }
 
+/// A half's bits as a round trip through a 32-bit float leaves them: a NaN
+/// comes back quiet (its quiet bit set, its payload kept), every other half
+/// as it was. So a signalling NaN a texture held is written as its float
+/// would be, and the file is the same either way.
+fn quieted(bits: u16) -> u16 {
+    if bits & 0x7fff > 0x7c00 {
+        bits | 0x0200
+    } else {
+        bits
+    }
+}
+
 /// One block's buffers, kept from block to block.
 #[derive(Default)]
 struct Block {
@@ -182,7 +194,7 @@ impl Block {
                     Samples::Halves(values) => self.plane.extend(
                         values[y * width * 4..(y + 1) * width * 4]
                             .chunks_exact(4)
-                            .map(|p| p[channel].to_bits()),
+                            .map(|p| quieted(p[channel].to_bits())),
                     ),
                 }
             }
@@ -307,6 +319,14 @@ mod tests {
             .into_iter()
             .flatten()
             .collect()
+    }
+
+    #[test]
+    fn halves_are_laid_out_as_their_floats_round_back() {
+        for bits in 0..=u16::MAX {
+            let round_trip = f16::from_f32(f16::from_bits(bits).to_f32()).to_bits();
+            assert_eq!(quieted(bits), round_trip, "{bits:#06x}");
+        }
     }
 
     #[test]

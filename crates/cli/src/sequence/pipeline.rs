@@ -325,3 +325,72 @@ fn sync(unsynced: Unsynced) -> Finished {
         stages,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spreadlight_render::image_io::Encoding;
+    use spreadlight_render::readback::ImageF16;
+
+    /// Every half there is (NaNs, infinities, subnormals, negatives, past 1), each once in every
+    /// channel: a 256x256 image whose channels hold the 65,536 halves, rotated per channel.
+    fn every_half() -> ImageF16 {
+        let values = (0..65_536u32)
+            .flat_map(|i| {
+                [0u32, 1, 2, 3].map(|c| half::f16::from_bits(((i + c * 16_411) % 65_536) as u16))
+            })
+            .collect();
+        ImageF16 {
+            width: 256,
+            height: 256,
+            values,
+        }
+    }
+
+    /// A texture's halves, encoded as they are, make the files their 32-bit floats make, in
+    /// every format: PNG in both encodings, 32-bit EXR, `--exr half`.
+    #[test]
+    fn files_from_halves_are_the_files_of_their_floats() {
+        let halves = every_half();
+        let floats = halves.to_f32();
+        assert_eq!(
+            floats.pixels[3],
+            [3, 16_414, 32_825, 49_236].map(|b| half::f16::from_bits(b).to_f32())
+        );
+        for encoding in [Encoding::Srgb, Encoding::Linear] {
+            assert_eq!(
+                halves_to_rgba8(&halves, encoding),
+                to_rgba8(&floats, encoding),
+                "{encoding:?}"
+            );
+            for (name, exr) in [
+                ("f.png", ExrPixels::Float),
+                ("f.exr", ExrPixels::Float),
+                ("f.exr", ExrPixels::Half),
+            ] {
+                let file = |pixels: Pixels| {
+                    let rendered = Rendered { pixels, encoding };
+                    let mut stages = FrameStages::default();
+                    encode(&rendered, Path::new(name), exr, &mut stages).expect("encodes")
+                };
+                let (from_halves, from_floats) = (
+                    file(Pixels::Half(halves.clone())),
+                    file(Pixels::Float(floats.clone())),
+                );
+                assert!(
+                    from_halves == from_floats,
+                    "{encoding:?}, {name} {exr:?}: other bytes"
+                );
+            }
+        }
+        // A PNG decodes to the 8-bit values it was given.
+        let rgba = halves_to_rgba8(&halves, Encoding::Srgb);
+        let png = encode_png(256, 256, &rgba).expect("encodes");
+        let decoded = image::load_from_memory_with_format(&png, image::ImageFormat::Png)
+            .expect("decodes")
+            .to_rgba8()
+            .into_raw();
+        assert!(decoded == rgba, "PNG is lossless");
+        assert!(encode_png(256, 255, &rgba).is_err(), "a buffer of another size");
+    }
+}
