@@ -389,7 +389,10 @@ fn sequence_frames_are_the_files_of_single_frame_runs_in_every_format() {
     );
     // Every stage is reported, as a mean per frame.
     let stages = &done(&seq)["stages"];
-    assert_eq!((stages["frames"].clone(), stages["threads"].clone()), (3.into(), 2.into()));
+    assert_eq!(
+        (stages["frames"].clone(), stages["threads"].clone()),
+        (3.into(), 2.into())
+    );
     for key in [
         "evaluate_ms",
         "submit_wait_ms",

@@ -79,11 +79,9 @@ pub fn encode_png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>, Strin
 /// half rather than once per value) and widened exactly for a float EXR.
 pub fn encode_pixels(pixels: &Pixels, encoding: Encoding, exr: bool) -> Result<Vec<u8>, String> {
     match pixels {
-        Pixels::Half(image) if !exr => encode_png(
-            image.width,
-            image.height,
-            &halves_to_rgba8(image, encoding),
-        ),
+        Pixels::Half(image) if !exr => {
+            encode_png(image.width, image.height, &halves_to_rgba8(image, encoding))
+        }
         Pixels::Half(image) => encode_image(&image.to_f32(), encoding, exr),
         Pixels::Float(image) => encode_image(image, encoding, exr),
     }
@@ -97,10 +95,7 @@ fn half_bytes() -> &'static [[u8; 2]] {
         (0..=u16::MAX)
             .map(|bits| {
                 let v = half::f16::from_bits(bits).to_f32();
-                [
-                    byte(linear_to_srgb(v)),
-                    byte(v.clamp(0.0, 1.0)),
-                ]
+                [byte(linear_to_srgb(v)), byte(v.clamp(0.0, 1.0))]
             })
             .collect()
     })
@@ -142,4 +137,3 @@ pub fn to_rgba8(image: &ImageF32, encoding: Encoding) -> Vec<u8> {
         })
         .collect()
 }
-

@@ -234,10 +234,13 @@ fn one_core() {
         } else {
             ""
         };
-        let ours = time(&format!("ZIP, 16 lines, {deflate:?} (exr_zip.rs{what})"), &|| {
-            let samples = exr_zip::Samples::Floats(&pixels);
-            exr_zip::encode(samples, size, deflate).expect("encodes").0
-        });
+        let ours = time(
+            &format!("ZIP, 16 lines, {deflate:?} (exr_zip.rs{what})"),
+            &|| {
+                let samples = exr_zip::Samples::Floats(&pixels);
+                exr_zip::encode(samples, size, deflate).expect("encodes").0
+            },
+        );
         if deflate == exr_zip::Deflate::Miniz(4) {
             println!(
                 "(level 4 is the exr crate's file byte for byte: {})",
@@ -332,7 +335,11 @@ fn readback_rows(pixels: &[Pixel], repeats: usize) {
 fn png_rows(halves: &[Pixel], (w, h): (usize, usize), repeats: usize) {
     let srgb = |c: f32| {
         let c = c.clamp(0.0, 1.0);
-        let v = if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+        let v = if c <= 0.003_130_8 {
+            c * 12.92
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
         (v * 255.0 + 0.5) as u8
     };
     let alpha = |c: f32| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
@@ -367,7 +374,12 @@ fn png_rows(halves: &[Pixel], (w, h): (usize, usize), repeats: usize) {
             .collect();
         bits.chunks_exact(4)
             .flat_map(|p| {
-                [lut[p[0] as usize][0], lut[p[1] as usize][0], lut[p[2] as usize][0], lut[p[3] as usize][1]]
+                [
+                    lut[p[0] as usize][0],
+                    lut[p[1] as usize][0],
+                    lut[p[2] as usize][0],
+                    lut[p[3] as usize][1],
+                ]
             })
             .collect()
     });
@@ -375,10 +387,26 @@ fn png_rows(halves: &[Pixel], (w, h): (usize, usize), repeats: usize) {
     assert!(table == per_value, "the table gives other bytes");
     let raw = (w * h * 4) as f64;
     for (name, compression, filter) in [
-        ("Balanced (flate2 level 6), adaptive: image's default", png::Compression::Balanced, png::Filter::Adaptive),
-        ("Fast (fdeflate), adaptive", png::Compression::Fast, png::Filter::Adaptive),
-        ("Fast (fdeflate), Up", png::Compression::Fast, png::Filter::Up),
-        ("Fast (fdeflate), Paeth", png::Compression::Fast, png::Filter::Paeth),
+        (
+            "Balanced (flate2 level 6), adaptive: image's default",
+            png::Compression::Balanced,
+            png::Filter::Adaptive,
+        ),
+        (
+            "Fast (fdeflate), adaptive",
+            png::Compression::Fast,
+            png::Filter::Adaptive,
+        ),
+        (
+            "Fast (fdeflate), Up",
+            png::Compression::Fast,
+            png::Filter::Up,
+        ),
+        (
+            "Fast (fdeflate), Paeth",
+            png::Compression::Fast,
+            png::Filter::Paeth,
+        ),
     ] {
         let (ms, out) = best(&|| {
             let mut out = Vec::new();
@@ -392,7 +420,11 @@ fn png_rows(halves: &[Pixel], (w, h): (usize, usize), repeats: usize) {
             writer.finish().expect("png");
             out
         });
-        println!("| PNG {name} | {ms:.0} | {:.2} | {:.2} |", out.len() as f64 / 1e6, raw / out.len() as f64);
+        println!(
+            "| PNG {name} | {ms:.0} | {:.2} | {:.2} |",
+            out.len() as f64 / 1e6,
+            raw / out.len() as f64
+        );
     }
     for level in [1u8, 2] {
         let (ms, out) = best(&|| {
@@ -407,6 +439,10 @@ fn png_rows(halves: &[Pixel], (w, h): (usize, usize), repeats: usize) {
             writer.finish().expect("png");
             out
         });
-        println!("| PNG flate2 level {level}, adaptive | {ms:.0} | {:.2} | {:.2} |", out.len() as f64 / 1e6, raw / out.len() as f64);
+        println!(
+            "| PNG flate2 level {level}, adaptive | {ms:.0} | {:.2} | {:.2} |",
+            out.len() as f64 / 1e6,
+            raw / out.len() as f64
+        );
     }
 }

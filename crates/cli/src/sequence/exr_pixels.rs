@@ -29,11 +29,7 @@ pub fn encode_half(pixels: &Pixels) -> Result<(Vec<u8>, Spent), String> {
         Pixels::Half(image) => Samples::Halves(&image.values),
         Pixels::Float(image) => Samples::Floats(&image.pixels),
     };
-    exr_zip::encode(
-        samples,
-        (width as usize, height as usize),
-        exr_zip::DEFLATE,
-    )
+    exr_zip::encode(samples, (width as usize, height as usize), exr_zip::DEFLATE)
 }
 
 #[cfg(test)]

@@ -89,7 +89,10 @@ pub fn encode(
     deflate: Deflate,
 ) -> Result<(Vec<u8>, Spent), String> {
     let count = samples.pixels();
-    if count != width * height || count == 0 || matches!(samples, Samples::Halves(v) if v.len() % 4 != 0) {
+    if count != width * height
+        || count == 0
+        || matches!(samples, Samples::Halves(v) if v.len() % 4 != 0)
+    {
         return Err(format!(
             "{count} pixels do not make a {width}x{height} image"
         ));
@@ -355,7 +358,10 @@ mod tests {
             assert_eq!(read(&bytes), expected, "{deflate:?}");
             // From the halves themselves: the same file.
             let (same, _) = encode(Samples::Halves(&halves), size, deflate).expect("encodes");
-            assert!(same == bytes, "{deflate:?}: halves and their floats give other files");
+            assert!(
+                same == bytes,
+                "{deflate:?}: halves and their floats give other files"
+            );
         }
         let taller = (size.0, size.1 + 1);
         assert!(encode(Samples::Floats(&pixels), taller, DEFLATE).is_err());

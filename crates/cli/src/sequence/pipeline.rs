@@ -9,8 +9,8 @@
 //! as before). The bytes are those of a frame rendered on its own: the same
 //! images, the same encoder.
 
-use std::collections::{BTreeMap, VecDeque};
 use std::borrow::Cow;
+use std::collections::{BTreeMap, VecDeque};
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, Sender, SyncSender, channel, sync_channel};
@@ -18,9 +18,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
-use spreadlight_render::image_io::{
-    encode_image, encode_png, halves_to_rgba8, is_exr, to_rgba8,
-};
+use spreadlight_render::image_io::{encode_image, encode_png, halves_to_rgba8, is_exr, to_rgba8};
 use spreadlight_render::readback::Pixels;
 
 use super::evaluate::{Captured, Rendered};
@@ -58,12 +56,30 @@ struct Unsynced {
     stages: FrameStages,
 }
 
+/// Where a pool hands its results: a channel, bounded or not.
+trait Out<R>: Clone + Send + 'static {
+    /// False once nobody takes them any more.
+    fn put(&self, result: R) -> bool;
+}
+
+impl<R: Send + 'static> Out<R> for Sender<R> {
+    fn put(&self, result: R) -> bool {
+        self.send(result).is_ok()
+    }
+}
+
+impl<R: Send + 'static> Out<R> for SyncSender<R> {
+    fn put(&self, result: R) -> bool {
+        self.send(result).is_ok()
+    }
+}
+
 /// `threads` threads taking work from one queue, each handing its results on.
 fn pool<T: Send + 'static, R: Send + 'static>(
     name: &str,
     threads: usize,
     queue: Receiver<T>,
-    out: &Sender<R>,
+    out: &impl Out<R>,
     work: fn(T) -> R,
 ) -> anyhow::Result<Vec<JoinHandle<()>>> {
     let queue = Arc::new(Mutex::new(queue));
@@ -78,7 +94,7 @@ fn pool<T: Send + 'static, R: Send + 'static>(
                         // The lock is held only while taking a job, not while doing it.
                         let job = queue.lock().unwrap_or_else(|e| e.into_inner()).recv();
                         let Ok(job) = job else { break };
-                        if out.send(work(job)).is_err() {
+                        if !out.put(work(job)) {
                             break;
                         }
                     }
@@ -102,11 +118,13 @@ impl Pipeline {
     /// `threads` writer threads; as many frames wait for one, so at most
     /// twice that are encoded or waiting (memory stays bounded however long
     /// the run). As many threads sync written files: they wait on the disk,
-    /// not on a core, and what waits for them is files in the page cache.
+    /// not on a core, and what waits for them is files in the page cache,
+    /// at most four times `threads` frames (then writers wait: a disk slower
+    /// than the encoding holds the run, not its open files).
     pub fn new(threads: usize) -> anyhow::Result<Pipeline> {
         let threads = threads.max(1);
         let (jobs, queue) = sync_channel::<Job>(threads);
-        let (written, to_sync) = channel::<Unsynced>();
+        let (written, to_sync) = sync_channel::<Unsynced>(threads * 4);
         let (done, results) = channel();
         // Writers hold the only senders to the syncers: when the last writer ends, they end.
         let mut workers = pool("frame writer", threads, queue, &written, write)?;
@@ -391,6 +409,9 @@ mod tests {
             .to_rgba8()
             .into_raw();
         assert!(decoded == rgba, "PNG is lossless");
-        assert!(encode_png(256, 255, &rgba).is_err(), "a buffer of another size");
+        assert!(
+            encode_png(256, 255, &rgba).is_err(),
+            "a buffer of another size"
+        );
     }
 }

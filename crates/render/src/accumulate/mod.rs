@@ -21,9 +21,7 @@ use std::sync::OnceLock;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::readback::{
-    ImageF32, PendingImage, Pixels, Readback, readback_layout, srgb_to_linear,
-};
+use crate::readback::{ImageF32, PendingImage, Pixels, Readback, readback_layout, srgb_to_linear};
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, PipelineRef};
 use crate::texture_pool::TextureKey;
