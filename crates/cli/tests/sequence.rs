@@ -355,6 +355,65 @@ fn frames_in_flight_write_the_bytes_of_single_frame_runs_and_fail_alone() {
     );
 }
 
+/// The Output's texture holds halves, which the writers encode as they are (no round trip through
+/// 32-bit floats): a half EXR sequence's frame is the file of a run of that frame alone, and reads
+/// back as the 32-bit EXR's values rounded to halves. The `done` line says where the time went.
+#[test]
+fn sequence_frames_are_the_files_of_single_frame_runs_in_every_format() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let read = |p: std::path::PathBuf| {
+        std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+    };
+    let seq = render(
+        SPHERES,
+        &dir.path().join("seq/f_#.exr"),
+        &["--frames", "0-2", "--threads", "2", "--exr", "half"],
+    );
+    ok(&seq);
+    let one = dir.path().join("one/f_#.exr");
+    ok(&render(SPHERES, &one, &["--frames", "2", "--exr", "half"]));
+    let half = read(dir.path().join("seq/f_2.exr"));
+    assert!(
+        half == read(dir.path().join("one/f_2.exr")),
+        "frame 2: the sequence's half EXR differs from a run of its own"
+    );
+    let float = dir.path().join("float.exr");
+    ok(&render(SPHERES, &float, &["--frames", "2"]));
+    let halves: Vec<f32> = rgb(&float)
+        .into_iter()
+        .map(|v| exr::prelude::f16::from_f32(v).to_f32())
+        .collect();
+    assert!(
+        rgb(&dir.path().join("seq/f_2.exr")) == halves,
+        "the half EXR is not the float frame in halves"
+    );
+    // Every stage is reported, as a mean per frame.
+    let stages = &done(&seq)["stages"];
+    assert_eq!(
+        (stages["frames"].clone(), stages["threads"].clone()),
+        (3.into(), 2.into())
+    );
+    for key in [
+        "evaluate_ms",
+        "submit_wait_ms",
+        "commit_ms",
+        "readback_wait_ms",
+        "readback_copy_ms",
+        "convert_ms",
+        "compress_ms",
+        "write_ms",
+        "sync_ms",
+        "writer_busy_ms",
+        "writer_utilization",
+        "fps_after_first",
+    ] {
+        let value = stages[key].as_f64();
+        assert!(value.is_some_and(|v| v >= 0.0), "{key}: {stages}");
+    }
+    assert!(stages["compress_ms"].as_f64() > Some(0.0), "{stages}");
+    assert!(stages["sync_ms"].as_f64() > Some(0.0), "{stages}");
+}
+
 /// `--samples 3` adds its sub-frames up on the GPU and reads the sum back once: the frame is the
 /// CPU's f32 sum of the three sub-frames rendered alone (`--sub-frame K`), added in order and
 /// divided once, bit for bit; against the f64 average the CPU made before, it differs by the f32

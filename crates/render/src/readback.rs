@@ -1,5 +1,7 @@
 //! Reading textures back to the CPU: for `Output`, tests and the CLI.
 
+use half::slice::HalfFloatSliceExt;
+
 use crate::context::GpuContext;
 use crate::error::RenderError;
 
@@ -67,6 +69,71 @@ impl ImageF32 {
             pixels,
         }
     }
+}
+
+/// A texture's RGBA half floats as it held them, top row first: what a
+/// `Rgba16Float` target reads back as before anything decodes it, so a
+/// host that writes halves (a half-float EXR) or maps them through a table
+/// (8-bit PNG) skips the round trip through 32-bit floats.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageF16 {
+    pub width: u32,
+    pub height: u32,
+    /// `width * height * 4` halves: R, G, B, A of each pixel.
+    pub values: Vec<half::f16>,
+}
+
+impl ImageF16 {
+    /// The same image as 32-bit floats: each half widened exactly, what
+    /// [`read_texture`] returns for the texture.
+    pub fn to_f32(&self) -> ImageF32 {
+        let mut floats = vec![0.0f32; self.values.len()];
+        // A slice at a time: F16C where the CPU has it (the values are those of `to_f32`).
+        self.values.convert_to_f32_slice(&mut floats);
+        ImageF32 {
+            width: self.width,
+            height: self.height,
+            pixels: floats
+                .chunks_exact(4)
+                .map(|p| [p[0], p[1], p[2], p[3]])
+                .collect(),
+        }
+    }
+}
+
+/// An image read back: half floats when the texture held them, else
+/// decoded to 32-bit floats ([`PendingImage::wait_pixels`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pixels {
+    Half(ImageF16),
+    Float(ImageF32),
+}
+
+impl Pixels {
+    pub fn size(&self) -> (u32, u32) {
+        match self {
+            Pixels::Half(image) => (image.width, image.height),
+            Pixels::Float(image) => (image.width, image.height),
+        }
+    }
+
+    /// As 32-bit floats (halves widened exactly).
+    pub fn into_f32(self) -> ImageF32 {
+        match self {
+            Pixels::Half(image) => image.to_f32(),
+            Pixels::Float(image) => image,
+        }
+    }
+}
+
+/// What [`PendingImage::wait_pixels`] hands back: the pixels, and where the
+/// wait went (`render --json`'s per-stage times).
+pub struct Readback {
+    pub pixels: Pixels,
+    /// Blocked until the GPU had made the copy and the buffer was mapped.
+    pub waited: std::time::Duration,
+    /// Taking the rows out of the mapped buffer (and decoding them).
+    pub copied: std::time::Duration,
 }
 
 /// Copy `texture` (mip 0) to the CPU. Supports the formats the renderer writes:
@@ -224,6 +291,14 @@ impl PendingImage {
     /// submission, not for frames queued after it), then decode it as
     /// [`read_texture`] does.
     pub fn wait(self) -> Result<ImageF32, RenderError> {
+        Ok(self.wait_pixels()?.pixels.into_f32())
+    }
+
+    /// [`PendingImage::wait`], with a `Rgba16Float` texture's halves left
+    /// as they are (the same values, not yet widened), and the time the
+    /// wait and the copy took.
+    pub fn wait_pixels(self) -> Result<Readback, RenderError> {
+        let started = std::time::Instant::now();
         let slice = self.buffer.slice(0..self.size);
         let (tx, rx) = std::sync::mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -239,25 +314,48 @@ impl PendingImage {
         rx.recv()
             .map_err(|e| RenderError::Readback(e.to_string()))?
             .map_err(|e| RenderError::Readback(e.to_string()))?;
+        let mapped = std::time::Instant::now();
         let pixels = {
             let data = slice
                 .get_mapped_range()
                 .map_err(|e| RenderError::Readback(e.to_string()))?;
-            decode_rows(
-                self.format,
-                &data,
-                (self.width, self.height),
-                self.row,
-                self.bytes_per_pixel,
-            )
+            let size = (self.width, self.height);
+            if self.format == wgpu::TextureFormat::Rgba16Float {
+                Pixels::Half(ImageF16 {
+                    width: self.width,
+                    height: self.height,
+                    values: halves(&data, size, self.row),
+                })
+            } else {
+                Pixels::Float(ImageF32 {
+                    width: self.width,
+                    height: self.height,
+                    pixels: decode_rows(self.format, &data, size, self.row, self.bytes_per_pixel),
+                })
+            }
         };
         self.buffer.unmap();
-        Ok(ImageF32 {
-            width: self.width,
-            height: self.height,
+        Ok(Readback {
             pixels,
+            waited: mapped - started,
+            copied: mapped.elapsed(),
         })
     }
+}
+
+/// The halves of a buffer of padded `Rgba16Float` rows, top row first.
+fn halves(data: &[u8], (width, height): (u32, u32), row: u32) -> Vec<half::f16> {
+    let line = width as usize * 4;
+    let mut values = Vec::with_capacity(line * height as usize);
+    for y in 0..height as usize {
+        let start = y * row as usize;
+        values.extend(
+            data[start..start + line * 2]
+                .chunks_exact(2)
+                .map(|b| half::f16::from_le_bytes([b[0], b[1]])),
+        );
+    }
+    values
 }
 
 /// The pixels of a buffer of padded rows, top row first.

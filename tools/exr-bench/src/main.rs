@@ -144,12 +144,13 @@ fn main() {
         let mut best = f64::MAX;
         for _ in 0..5 {
             let start = std::time::Instant::now();
-            exr_zip::encode(&pixels, size, exr_zip::LEVEL).expect("encodes");
+            exr_zip::encode(exr_zip::Samples::Floats(&pixels), size, exr_zip::DEFLATE)
+                .expect("encodes");
             best = best.min(start.elapsed().as_secs_f64());
         }
         println!(
-            "exr_zip.rs level {} on {} threads: {:.0} ms wall (best of 5)",
-            exr_zip::LEVEL,
+            "exr_zip.rs {:?} on {} threads: {:.0} ms wall (best of 5)",
+            exr_zip::DEFLATE,
             rayon::current_num_threads(),
             best * 1e3
         );
@@ -222,22 +223,44 @@ fn one_core() {
     time("PIZ (exr crate, 256x256 tiles)", &|| {
         by_the_crate(&pixels, size, Encoding::SMALL_FAST_LOSSLESS)
     });
-    for level in [1u8, 2, 3, 4, 6] {
-        let what = if level == exr_zip::LEVEL {
+    let bits: Vec<f16> = pixels.iter().flatten().map(|&v| f16::from_f32(v)).collect();
+    let deflaters = [1u8, 2, 3, 4, 6]
+        .map(exr_zip::Deflate::Miniz)
+        .into_iter()
+        .chain([1, 2, 4, 6].map(exr_zip::Deflate::Libdeflate));
+    for deflate in deflaters {
+        let what = if deflate == exr_zip::DEFLATE {
             ": what `--exr half` writes"
         } else {
             ""
         };
         let ours = time(
-            &format!("ZIP, 16 lines, level {level} (exr_zip.rs{what})"),
-            &|| exr_zip::encode(&pixels, size, level).expect("encodes"),
+            &format!("ZIP, 16 lines, {deflate:?} (exr_zip.rs{what})"),
+            &|| {
+                let samples = exr_zip::Samples::Floats(&pixels);
+                exr_zip::encode(samples, size, deflate).expect("encodes").0
+            },
         );
-        if level == 4 {
+        if deflate == exr_zip::Deflate::Miniz(4) {
             println!(
                 "(level 4 is the exr crate's file byte for byte: {})",
                 ours == crate_zip
             );
         }
+        // From a texture's halves (no conversion from floats), and where the time went.
+        let spent = std::cell::Cell::new(exr_zip::Spent::default());
+        let from_halves = time(&format!("ZIP, 16 lines, {deflate:?}, from halves"), &|| {
+            let samples = exr_zip::Samples::Halves(&bits);
+            let (bytes, s) = exr_zip::encode(samples, size, deflate).expect("encodes");
+            spent.set(s);
+            bytes
+        });
+        assert!(from_halves == ours, "the halves give another file");
+        println!(
+            "(of which converting and the predictor {:.0} ms, deflating {:.0} ms)",
+            spent.get().converting.as_secs_f64() * 1e3,
+            spent.get().compressing.as_secs_f64() * 1e3
+        );
     }
     for level in [1u32, 2, 4] {
         time(&format!("ZIP, 16 lines, zlib-rs level {level}"), &|| {
@@ -252,4 +275,174 @@ fn one_core() {
     time("ZIP, 16 lines, fdeflate", &|| {
         zip_with(&pixels, size, &|data| fdeflate::compress_to_vec(data))
     });
+    for level in [1i32, 2, 3, 4, 6] {
+        time(&format!("ZIP, 16 lines, libdeflate level {level}"), &|| {
+            zip_with(&pixels, size, &|data| {
+                let mut c = libdeflater::Compressor::new(
+                    libdeflater::CompressionLvl::new(level).expect("a level"),
+                );
+                let mut out = vec![0; c.zlib_compress_bound(data.len())];
+                let n = c.zlib_compress(data, &mut out).expect("deflates");
+                out.truncate(n);
+                out
+            })
+        });
+    }
+    png_rows(&halves, size, repeats);
+    readback_rows(&halves, repeats);
+}
+
+/// Taking a `Rgba16Float` readback's bytes out of the mapped buffer: decoded
+/// to 32-bit floats a pixel at a time (what `readback.rs` did for every
+/// frame) against kept as halves (what it does now for such a texture).
+fn readback_rows(pixels: &[Pixel], repeats: usize) {
+    let bytes: Vec<u8> = pixels
+        .iter()
+        .flatten()
+        .flat_map(|&v| f16::from_f32(v).to_le_bytes())
+        .collect();
+    let best = |f: &dyn Fn() -> usize| {
+        let mut best = f64::MAX;
+        for _ in 0..repeats {
+            let start = cpu_seconds();
+            std::hint::black_box(f());
+            best = best.min(cpu_seconds() - start);
+        }
+        best * 1e3
+    };
+    let per_pixel = best(&|| {
+        let mut out: Vec<Pixel> = Vec::with_capacity(pixels.len());
+        for px in bytes.chunks_exact(8) {
+            let h = |i: usize| f16::from_le_bytes([px[i], px[i + 1]]).to_f32();
+            out.push([h(0), h(2), h(4), h(6)]);
+        }
+        out.len()
+    });
+    println!("| readback: to 32-bit floats, a pixel at a time (before) | {per_pixel:.0} | | |");
+    let kept = best(&|| {
+        let out: Vec<f16> = bytes
+            .chunks_exact(2)
+            .map(|b| f16::from_le_bytes([b[0], b[1]]))
+            .collect();
+        out.len()
+    });
+    println!("| readback: kept as halves (now) | {kept:.0} | | |");
+}
+
+/// PNG of the same frame (sRGB 8-bit, as `spreadlight` writes it): the
+/// conversion per value against a table over every half, and the
+/// compression settings `png` offers.
+fn png_rows(halves: &[Pixel], (w, h): (usize, usize), repeats: usize) {
+    let srgb = |c: f32| {
+        let c = c.clamp(0.0, 1.0);
+        let v = if c <= 0.003_130_8 {
+            c * 12.92
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (v * 255.0 + 0.5) as u8
+    };
+    let alpha = |c: f32| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let best = |f: &dyn Fn() -> Vec<u8>| {
+        let mut best = f64::MAX;
+        let mut out = Vec::new();
+        for _ in 0..repeats {
+            let start = cpu_seconds();
+            out = f();
+            best = best.min(cpu_seconds() - start);
+        }
+        (best * 1e3, out)
+    };
+    let (ms, per_value) = best(&|| {
+        halves
+            .iter()
+            .flat_map(|p| [srgb(p[0]), srgb(p[1]), srgb(p[2]), alpha(p[3])])
+            .collect()
+    });
+    println!("| to 8-bit sRGB, per value (powf) | {ms:.0} | | |");
+    let bits: Vec<u16> = halves
+        .iter()
+        .flatten()
+        .map(|&v| f16::from_f32(v).to_bits())
+        .collect();
+    let (ms, table) = best(&|| {
+        let lut: Vec<[u8; 2]> = (0..=u16::MAX)
+            .map(|b| {
+                let v = f16::from_bits(b).to_f32();
+                [srgb(v), alpha(v)]
+            })
+            .collect();
+        bits.chunks_exact(4)
+            .flat_map(|p| {
+                [
+                    lut[p[0] as usize][0],
+                    lut[p[1] as usize][0],
+                    lut[p[2] as usize][0],
+                    lut[p[3] as usize][1],
+                ]
+            })
+            .collect()
+    });
+    println!("| to 8-bit sRGB, a table of every half (built each time) | {ms:.0} | | |");
+    assert!(table == per_value, "the table gives other bytes");
+    let raw = (w * h * 4) as f64;
+    for (name, compression, filter) in [
+        (
+            "Balanced (flate2 level 6), adaptive: image's default",
+            png::Compression::Balanced,
+            png::Filter::Adaptive,
+        ),
+        (
+            "Fast (fdeflate), adaptive",
+            png::Compression::Fast,
+            png::Filter::Adaptive,
+        ),
+        (
+            "Fast (fdeflate), Up",
+            png::Compression::Fast,
+            png::Filter::Up,
+        ),
+        (
+            "Fast (fdeflate), Paeth",
+            png::Compression::Fast,
+            png::Filter::Paeth,
+        ),
+    ] {
+        let (ms, out) = best(&|| {
+            let mut out = Vec::new();
+            let mut e = png::Encoder::new(&mut out, w as u32, h as u32);
+            e.set_color(png::ColorType::Rgba);
+            e.set_depth(png::BitDepth::Eight);
+            e.set_compression(compression);
+            e.set_filter(filter);
+            let mut writer = e.write_header().expect("header");
+            writer.write_image_data(&table).expect("png");
+            writer.finish().expect("png");
+            out
+        });
+        println!(
+            "| PNG {name} | {ms:.0} | {:.2} | {:.2} |",
+            out.len() as f64 / 1e6,
+            raw / out.len() as f64
+        );
+    }
+    for level in [1u8, 2] {
+        let (ms, out) = best(&|| {
+            let mut out = Vec::new();
+            let mut e = png::Encoder::new(&mut out, w as u32, h as u32);
+            e.set_color(png::ColorType::Rgba);
+            e.set_depth(png::BitDepth::Eight);
+            e.set_deflate_compression(png::DeflateCompression::Level(level));
+            e.set_filter(png::Filter::Adaptive);
+            let mut writer = e.write_header().expect("header");
+            writer.write_image_data(&table).expect("png");
+            writer.finish().expect("png");
+            out
+        });
+        println!(
+            "| PNG flate2 level {level}, adaptive | {ms:.0} | {:.2} | {:.2} |",
+            out.len() as f64 / 1e6,
+            raw / out.len() as f64
+        );
+    }
 }

@@ -4,13 +4,14 @@
 
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::Duration;
 
 use glam::Vec2;
 use spreadlight_graph::FrameClock;
 use spreadlight_nodes::deferred::mre::SubPixelOffset;
 use spreadlight_render::accumulate::PendingSum;
 use spreadlight_render::image_io::Encoding;
-use spreadlight_render::readback::{ImageF32, PendingImage};
+use spreadlight_render::readback::{ImageF32, PendingImage, Pixels, Readback};
 use spreadlight_render::renderer::Timing as GpuTiming;
 
 use super::accumulate::{Average, pixel_offset, shutter_offset};
@@ -57,10 +58,20 @@ impl Timing {
     }
 }
 
-/// An output's image of one frame (in the order of the outputs given).
+/// An output's image of one frame (in the order of the outputs given):
+/// the texture's halves when it held them, else 32-bit floats.
 pub struct Rendered {
-    pub image: ImageF32,
+    pub pixels: Pixels,
     pub encoding: Encoding,
+}
+
+/// A frame's images, and how long taking them from the GPU took.
+pub struct Resolved {
+    pub images: Vec<Rendered>,
+    /// Blocked until the copies were made and mapped.
+    pub waited: Duration,
+    /// Taking the rows out of the mapped buffers (and averaging sub-frames).
+    pub copied: Duration,
 }
 
 /// One sub-frame's image of one output: read back already (an `Output`
@@ -104,53 +115,65 @@ impl Captured {
     /// averages to itself exactly, so it is passed on as it is: the same
     /// images, bit for bit, as reading each back at once would give. A sum
     /// made on the GPU is divided by its count (`accumulate/` in render).
-    pub fn resolve(self) -> Result<Vec<Rendered>, Vec<String>> {
+    pub fn resolve(self) -> Result<Resolved, Vec<String>> {
         let size = self.size;
         let pixels = size.0 as usize * size.1 as usize;
-        self.outputs
-            .into_iter()
-            .map(|(name, frame, encoding)| {
-                let failed = |e: spreadlight_render::RenderError| {
-                    vec![format!("the Output named `{name}`: {e}")]
+        let mut resolved = Resolved {
+            images: Vec::with_capacity(self.outputs.len()),
+            waited: Duration::ZERO,
+            copied: Duration::ZERO,
+        };
+        for (name, frame, encoding) in self.outputs {
+            let failed = |e: spreadlight_render::RenderError| {
+                vec![format!("the Output named `{name}`: {e}")]
+            };
+            // As the Output stretches what it reads back at once.
+            let stretched = |pixels: Pixels| {
+                if pixels.size() == size {
+                    pixels
+                } else {
+                    Pixels::Float(pixels.into_f32().resized(size))
+                }
+            };
+            let mut take = |read: Result<Readback, spreadlight_render::RenderError>| {
+                let read = read.map_err(failed)?;
+                resolved.waited += read.waited;
+                resolved.copied += read.copied;
+                Ok::<_, Vec<String>>(stretched(read.pixels))
+            };
+            let mut shot = |shot: Shot| {
+                let pixels = match shot {
+                    Shot::Ready(image) => Pixels::Float(image),
+                    Shot::Pending(pending) => take(pending.wait_pixels())?,
                 };
-                // As the Output stretches what it reads back at once.
-                let stretched = |image: ImageF32| {
-                    if (image.width, image.height) == size {
-                        image
-                    } else {
-                        image.resized(size)
-                    }
-                };
-                let take = |shot: Shot| {
-                    let image = match shot {
-                        Shot::Ready(image) => image,
-                        Shot::Pending(pending) => stretched(pending.wait().map_err(failed)?),
-                    };
-                    if (image.width, image.height) != size {
-                        return Err(vec![format!(
-                            "the Output named `{name}` rendered {}x{}, not {}x{}",
-                            image.width, image.height, size.0, size.1
-                        )]);
-                    }
-                    Ok(image)
-                };
-                let image = match frame {
-                    Frame::Sum(sum) => stretched(sum.wait().map_err(failed)?),
-                    // Sub-frames are taken one at a time, so K of them never sit in memory at once.
-                    Frame::Shots(shots) => match <[Shot; 1]>::try_from(shots) {
-                        Ok([shot]) => take(shot)?,
-                        Err(shots) => {
-                            let mut sum = Average::new(pixels);
-                            for shot in shots {
-                                sum.add(&take(shot)?);
-                            }
-                            sum.image(size)
+                if pixels.size() != size {
+                    return Err(vec![format!(
+                        "the Output named `{name}` rendered {}x{}, not {}x{}",
+                        pixels.size().0,
+                        pixels.size().1,
+                        size.0,
+                        size.1
+                    )]);
+                }
+                Ok(pixels)
+            };
+            let pixels = match frame {
+                Frame::Sum(sum) => take(sum.wait_readback())?,
+                // Sub-frames are taken one at a time, so K of them never sit in memory at once.
+                Frame::Shots(shots) => match <[Shot; 1]>::try_from(shots) {
+                    Ok([one]) => shot(one)?,
+                    Err(shots) => {
+                        let mut sum = Average::new(pixels);
+                        for one in shots {
+                            sum.add(&shot(one)?.into_f32());
                         }
-                    },
-                };
-                Ok(Rendered { image, encoding })
-            })
-            .collect()
+                        Pixels::Float(sum.image(size))
+                    }
+                },
+            };
+            resolved.images.push(Rendered { pixels, encoding });
+        }
+        Ok(resolved)
     }
 }
 

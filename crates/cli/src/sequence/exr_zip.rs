@@ -1,16 +1,22 @@
 //! The half-float EXR of `--exr half`, ZIP-compressed by blocks of 16
 //! lines (OpenEXR's `ZIP_COMPRESSION`), written here block by block rather
 //! than by the `exr` crate's image writer, for one reason: the crate
-//! deflates at a fixed level (miniz_oxide's 4), which costs three to four
-//! times what level 1 does for a tenth fewer bytes, and that was what held
-//! a 1080p sequence to 34 frames a second on 16 cores (docs/benchmarks.md,
-//! "EXR encoding and summed sub-frames"). The blocks are what OpenEXR's ZIP
-//! compressor makes: per line the channels in name order (A, B, G, R) as
+//! deflates at a fixed level (miniz_oxide's 4), which cost three to four
+//! times what a fast level does, and that was what held a 1080p sequence
+//! to 34 frames a second on 16 cores (docs/benchmarks.md, "EXR encoding
+//! and summed sub-frames"). The blocks are what OpenEXR's ZIP compressor
+//! makes: per line the channels in name order (A, B, G, R) as
 //! little-endian halves, the bytes split into even and odd halves, each
 //! byte stored as its difference to the one before, deflated (zlib); a
-//! block that does not shrink is stored raw. Any EXR reader decodes them;
-//! only the deflate level differs from the crate's (at its level, 4, the
-//! bytes are the crate's own: tested). `tools/exr-bench` measures it.
+//! block that does not shrink is stored raw. Any EXR reader decodes them.
+//! They are deflated by libdeflate at level 1 ([`DEFLATE`]): as small as
+//! the crate's level 4 for the CPU of miniz's level 1 (docs/benchmarks.md,
+//! "Offline throughput by stage"); with miniz at level 4 the file is the
+//! crate's own, byte for byte (tested). `tools/exr-bench` measures them.
+//!
+//! The samples come as 32-bit floats (rounded to halves here) or as the
+//! halves a `Rgba16Float` texture held, which are written as they are: the
+//! same bytes, without the round trip through floats.
 //!
 //! The blocks are compressed on rayon's threads, then written in order: the
 //! same bytes, but a frame no longer waits for one core to deflate its 68
@@ -20,6 +26,7 @@
 //! single image, `--threads 1`.
 
 use std::io::Cursor;
+use std::time::{Duration, Instant};
 
 use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
 use exr::block::writer::ChunksWriter;
@@ -33,21 +40,61 @@ use rayon::prelude::*;
 /// Lines per block: OpenEXR's ZIP (ZIPS has one).
 const LINES: usize = 16;
 
-/// The deflate level `--exr half` writes with (miniz_oxide's 1: its
-/// fastest that still searches for matches); see the module's docs.
-pub const LEVEL: u8 = 1;
+/// What `--exr half` deflates with (the module's docs say why).
+pub const DEFLATE: Deflate = Deflate::Libdeflate(1);
 
-/// `pixels` (RGBA, `width` x `height`, top row first) as the bytes of a
-/// half-float EXR file, ZIP-compressed at deflate `level` (0-10).
+/// A deflater and its level; every one writes zlib streams any reader inflates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Deflate {
+    /// miniz_oxide (what the `exr` crate deflates with, at 4), level 0-10:
+    /// what the tests check the blocks against, and tools/exr-bench compares.
+    #[allow(dead_code)]
+    Miniz(u8),
+    /// libdeflate, level 1-12.
+    Libdeflate(i32),
+}
+
+/// A frame's RGBA samples, top row first: 32-bit floats (rounded to halves
+/// here) or the halves a `Rgba16Float` texture held (written as they are).
+#[derive(Clone, Copy)]
+pub enum Samples<'a> {
+    Floats(&'a [[f32; 4]]),
+    /// R, G, B, A of each pixel.
+    Halves(&'a [f16]),
+}
+
+impl Samples<'_> {
+    fn pixels(&self) -> usize {
+        match self {
+            Samples::Floats(p) => p.len(),
+            Samples::Halves(v) => v.len() / 4,
+        }
+    }
+}
+
+/// Where a frame's encoding went, summed over its blocks (on whichever
+/// threads compressed them): the samples laid out and ZIP's predictor, and
+/// the deflating.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Spent {
+    pub converting: Duration,
+    pub compressing: Duration,
+}
+
+/// `samples` (`width` x `height`) as the bytes of a half-float EXR file,
+/// ZIP-compressed with `deflate`, and where the time went.
 pub fn encode(
-    pixels: &[[f32; 4]],
+    samples: Samples,
     (width, height): (usize, usize),
-    level: u8,
-) -> Result<Vec<u8>, String> {
-    if pixels.len() != width * height || pixels.is_empty() {
+    deflate: Deflate,
+) -> Result<(Vec<u8>, Spent), String> {
+    let count = samples.pixels();
+    if count != width * height
+        || count == 0
+        || matches!(samples, Samples::Halves(v) if v.len() % 4 != 0)
+    {
         return Err(format!(
-            "{} pixels do not make a {width}x{height} image",
-            pixels.len()
+            "{count} pixels do not make a {width}x{height} image"
         ));
     }
     // Channels in name order, as EXR stores them; `named` picks what the crate's writer picks.
@@ -64,16 +111,19 @@ pub fn encode(
             LineOrder::Increasing,
         );
     let tops: Vec<usize> = (0..height).step_by(LINES).collect();
-    let blocks: Vec<Vec<u8>> = tops
+    let blocks: Vec<(Vec<u8>, Spent)> = tops
         .par_iter()
         .map_init(Block::default, |block, &top| {
-            let lines = &pixels[top * width..(top + LINES).min(height) * width];
-            block.compress(lines, width, level)
+            let lines = top..(top + LINES).min(height);
+            block.compress(samples, lines, width, deflate)
         })
-        .collect();
+        .collect::<Result<_, String>>()?;
+    let mut spent = Spent::default();
     let mut out = Cursor::new(Vec::with_capacity(width * height * 3));
     exr::block::write(&mut out, Headers::from(vec![header]), true, |_, writer| {
-        for (index, (top, compressed_pixels_le)) in tops.iter().zip(blocks).enumerate() {
+        for (index, (top, (compressed_pixels_le, block))) in tops.iter().zip(blocks).enumerate() {
+            spent.converting += block.converting;
+            spent.compressing += block.compressing;
             writer.write_chunk(
                 index,
                 Chunk {
@@ -90,7 +140,19 @@ pub fn encode(
         Ok(())
     })
     .map_err(|e| e.to_string())?;
-    Ok(out.into_inner())
+    Ok((out.into_inner(), spent))
+}
+
+/// A half's bits as a round trip through a 32-bit float leaves them: a NaN
+/// comes back quiet (its quiet bit set, its payload kept), every other half
+/// as it was. So a signalling NaN a texture held is written as its float
+/// would be, and the file is the same either way.
+fn quieted(bits: u16) -> u16 {
+    if bits & 0x7fff > 0x7c00 {
+        bits | 0x0200
+    } else {
+        bits
+    }
 }
 
 /// One block's buffers, kept from block to block.
@@ -98,44 +160,96 @@ pub fn encode(
 struct Block {
     floats: Vec<f32>,
     halves: Vec<f16>,
-    /// The block as EXR stores it uncompressed.
-    raw: Vec<u8>,
+    /// The block's halves in the order EXR stores them: per line, A, B, G, R.
+    plane: Vec<u16>,
+    /// Their low bytes, then their high bytes (ZIP's split).
+    split: Vec<u8>,
     /// The same after ZIP's predictor.
     predicted: Vec<u8>,
+    /// libdeflate's compressor (its tables), made once per thread.
+    libdeflate: Option<(i32, libdeflater::Compressor)>,
 }
 
 impl Block {
-    /// The bytes of the block of `lines` (whole lines of `width` pixels).
-    fn compress(&mut self, lines: &[[f32; 4]], width: usize, level: u8) -> Vec<u8> {
-        self.raw.clear();
-        for line in lines.chunks_exact(width) {
+    /// The bytes of the block of `lines` (of `width` pixels).
+    fn compress(
+        &mut self,
+        samples: Samples,
+        lines: std::ops::Range<usize>,
+        width: usize,
+        deflate: Deflate,
+    ) -> Result<(Vec<u8>, Spent), String> {
+        let started = Instant::now();
+        self.plane.clear();
+        for y in lines {
             for channel in [3, 2, 1, 0] {
-                self.floats.clear();
-                self.floats.extend(line.iter().map(|p| p[channel]));
-                self.halves.resize(width, f16::ZERO);
-                // A slice at a time: F16C where the CPU has it.
-                self.halves.convert_from_f32_slice(&self.floats);
-                self.raw
-                    .extend(self.halves.iter().flat_map(|h| h.to_le_bytes()));
+                match samples {
+                    Samples::Floats(pixels) => {
+                        let line = &pixels[y * width..(y + 1) * width];
+                        self.floats.clear();
+                        self.floats.extend(line.iter().map(|p| p[channel]));
+                        self.halves.resize(width, f16::ZERO);
+                        // A slice at a time: F16C where the CPU has it.
+                        self.halves.convert_from_f32_slice(&self.floats);
+                        self.plane.extend(self.halves.iter().map(|h| h.to_bits()));
+                    }
+                    // The texture's halves as they are: what rounding their floats gives back.
+                    Samples::Halves(values) => self.plane.extend(
+                        values[y * width * 4..(y + 1) * width * 4]
+                            .chunks_exact(4)
+                            .map(|p| quieted(p[channel].to_bits())),
+                    ),
+                }
             }
         }
-        // ZIP's predictor: even bytes then odd bytes, each as its difference to the one before.
-        let raw = &self.raw;
-        self.predicted.clear();
-        self.predicted
-            .extend(raw.iter().step_by(2).chain(raw.iter().skip(1).step_by(2)));
-        let mut previous = self.predicted.first().copied().unwrap_or(0);
-        for byte in self.predicted.iter_mut().skip(1) {
-            let current = *byte;
-            *byte = current.wrapping_sub(previous).wrapping_add(128);
-            previous = current;
+        // ZIP's predictor over the little-endian bytes: the even bytes (each half's low byte)
+        // then the odd ones, each stored as its difference to the one before, plus 128.
+        let n = self.plane.len();
+        self.split.resize(2 * n, 0);
+        let (low, high) = self.split.split_at_mut(n);
+        for ((l, h), v) in low.iter_mut().zip(high.iter_mut()).zip(&self.plane) {
+            [*l, *h] = v.to_le_bytes();
         }
-        let compressed = miniz_oxide::deflate::compress_to_vec_zlib(&self.predicted, level);
-        if compressed.len() < raw.len() {
+        self.predicted.resize(2 * n, 0);
+        if let (Some(first), Some(to)) = (self.split.first(), self.predicted.first_mut()) {
+            *to = *first;
+        }
+        for (to, pair) in self.predicted[1..].iter_mut().zip(self.split.windows(2)) {
+            *to = pair[1].wrapping_sub(pair[0]).wrapping_add(128);
+        }
+        let predicted = Instant::now();
+        let compressed = match deflate {
+            Deflate::Miniz(level) => {
+                miniz_oxide::deflate::compress_to_vec_zlib(&self.predicted, level)
+            }
+            Deflate::Libdeflate(level) => {
+                let compressor = match &mut self.libdeflate {
+                    Some((made, compressor)) if *made == level => compressor,
+                    slot => {
+                        let lvl = libdeflater::CompressionLvl::new(level)
+                            .map_err(|_| format!("no libdeflate level {level}"))?;
+                        &mut slot.insert((level, libdeflater::Compressor::new(lvl))).1
+                    }
+                };
+                let mut out = vec![0; compressor.zlib_compress_bound(self.predicted.len())];
+                let n = compressor
+                    .zlib_compress(&self.predicted, &mut out)
+                    .map_err(|e| format!("deflating a block: {e}"))?;
+                out.truncate(n);
+                out
+            }
+        };
+        let spent = Spent {
+            converting: predicted - started,
+            compressing: predicted.elapsed(),
+        };
+        // A block that does not shrink is stored as it is.
+        let bytes = if compressed.len() < 2 * n {
             compressed
         } else {
-            raw.clone()
-        }
+            self.plane.iter().flat_map(|v| v.to_le_bytes()).collect()
+        };
+        Ok((bytes, spent))
     }
 }
 
@@ -211,9 +325,18 @@ mod tests {
     }
 
     #[test]
+    fn halves_are_laid_out_as_their_floats_round_back() {
+        for bits in 0..=u16::MAX {
+            let round_trip = f16::from_f32(f16::from_bits(bits).to_f32()).to_bits();
+            assert_eq!(quieted(bits), round_trip, "{bits:#06x}");
+        }
+    }
+
+    #[test]
     fn at_the_crates_level_the_bytes_are_the_crates() {
         let (pixels, size) = frame();
-        assert_eq!(encode(&pixels, size, 4), Ok(by_the_crate(&pixels, size)));
+        let ours = encode(Samples::Floats(&pixels), size, Deflate::Miniz(4)).expect("encodes");
+        assert_eq!(ours.0, by_the_crate(&pixels, size));
     }
 
     #[test]
@@ -224,10 +347,26 @@ mod tests {
             .flatten()
             .map(|&v| f16::from_f32(v).to_f32())
             .collect();
-        for level in [0, LEVEL, 4, 9] {
-            let bytes = encode(&pixels, size, level).expect("encodes");
-            assert_eq!(read(&bytes), expected, "level {level}");
+        let halves: Vec<f16> = pixels.iter().flatten().map(|&v| f16::from_f32(v)).collect();
+        let deflaters = [0, 1, 4, 9]
+            .map(Deflate::Miniz)
+            .into_iter()
+            .chain([1, 6, 12].map(Deflate::Libdeflate))
+            .chain([DEFLATE]);
+        for deflate in deflaters {
+            let (bytes, _) = encode(Samples::Floats(&pixels), size, deflate).expect("encodes");
+            assert_eq!(read(&bytes), expected, "{deflate:?}");
+            // From the halves themselves: the same file.
+            let (same, _) = encode(Samples::Halves(&halves), size, deflate).expect("encodes");
+            assert!(
+                same == bytes,
+                "{deflate:?}: halves and their floats give other files"
+            );
         }
-        assert!(encode(&pixels, (size.0, size.1 + 1), LEVEL).is_err());
+        let taller = (size.0, size.1 + 1);
+        assert!(encode(Samples::Floats(&pixels), taller, DEFLATE).is_err());
+        assert!(encode(Samples::Halves(&halves), taller, DEFLATE).is_err());
+        assert!(encode(Samples::Halves(&halves[1..]), size, DEFLATE).is_err());
+        assert!(encode(Samples::Floats(&pixels), size, Deflate::Libdeflate(13)).is_err());
     }
 }

@@ -33,11 +33,12 @@ pub fn partial_path(path: &Path) -> PathBuf {
     ))
 }
 
-/// The first half of an atomic write: `bytes` in `path`'s temporary file,
-/// synced; returns its name. A sequence writes frames this way on several
-/// threads and [`commit`]s them in frame order, so the frames on disk are
-/// always the first ones of the run (what resuming relies on).
-pub fn write_partial(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
+/// The first half of an atomic write: `bytes` in `path`'s temporary file;
+/// returns its name and the file, to be synced (`File::sync_all`) before
+/// the rename. A sequence writes frames this way on several threads, syncs
+/// them on others and [`commit`]s them in frame order, so the frames on
+/// disk are always the first ones of the run (what resuming relies on).
+pub fn create_partial(path: &Path, bytes: &[u8]) -> std::io::Result<(PathBuf, std::fs::File)> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
@@ -45,10 +46,10 @@ pub fn write_partial(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
     let result = (|| {
         let mut file = std::fs::File::create(&partial)?;
         file.write_all(bytes)?;
-        file.sync_all()
+        Ok(file)
     })();
     match result {
-        Ok(()) => Ok(partial),
+        Ok(file) => Ok((partial, file)),
         Err(e) => {
             let _ = std::fs::remove_file(&partial);
             Err(e)
@@ -172,7 +173,8 @@ mod tests {
     fn atomic_writes_leave_only_the_file_and_sweeps_spare_live_writers() {
         let dir = tempfile::tempdir().expect("tempdir");
         let target = dir.path().join("a/shot_0001.png");
-        let partial = write_partial(&target, b"whole").expect("write");
+        let (partial, file) = create_partial(&target, b"whole").expect("write");
+        file.sync_all().expect("sync");
         assert_eq!(partial, partial_path(&target));
         assert!(!target.exists(), "not in place before the commit");
         commit(&partial, &target).expect("rename");

@@ -18,6 +18,7 @@ mod outputs;
 mod pipeline;
 mod progress;
 mod render;
+mod stages;
 mod video;
 mod whole;
 

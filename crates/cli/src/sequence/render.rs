@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Instant;
 
 use anyhow::Context;
 use serde_json::json;
@@ -19,6 +20,7 @@ use super::names::{Target, VideoKind};
 use super::outputs::{Declared, declared};
 use super::pipeline::{Finished, Job, Pipeline};
 use super::progress::{Progress, Status};
+use super::stages::RunStages;
 use super::video::Video;
 use crate::session::{Session, parse_size};
 
@@ -316,16 +318,23 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     note_preroll(&progress, plan, &todo);
     let mut failed = Vec::new();
     let mut next: Option<u64> = None;
-    let mut pipeline = Pipeline::new(args.threads.unwrap_or_else(default_threads))?;
+    let threads = args.threads.unwrap_or_else(default_threads).max(1);
+    let mut pipeline = Pipeline::new(threads)?;
+    let mut stages = RunStages::new(threads);
     // With --samples: the output images summed on the GPU, and those averaged on the CPU.
     let mut summed = (0u64, 0u64);
     for &frame in &todo {
-        preroll(&mut evaluator, plan, &mut next, frame);
-        let started = std::time::Instant::now();
-        match evaluator.frame(frame) {
+        let prerolling = Instant::now();
+        let prerolled = preroll(&mut evaluator, plan, &mut next, frame);
+        stages.prerolled(prerolled, prerolling.elapsed());
+        let started = Instant::now();
+        let evaluated = evaluator.frame(frame);
+        stages.evaluated(started.elapsed());
+        match evaluated {
             Ok(captured) => {
                 let (gpu, cpu) = captured.combined();
                 summed = (summed.0 + gpu, summed.1 + cpu);
+                let submitting = Instant::now();
                 pipeline.submit(Job {
                     frame,
                     captured,
@@ -333,18 +342,21 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
                     started,
                     exr: args.exr,
                 });
+                stages.submitted(submitting.elapsed());
             }
             Err(errors) => pipeline.fail(frame, errors, started),
         }
         for finished in pipeline.finished(false) {
-            place(finished, plan, &progress, kill, &mut failed);
+            place(finished, plan, &progress, kill, &mut failed, &mut stages);
         }
     }
     for finished in pipeline.finish() {
-        place(finished, plan, &progress, kill, &mut failed);
+        place(finished, plan, &progress, kill, &mut failed, &mut stages);
     }
     let written = todo.len() - failed.len();
-    let mut summary = json!({"written": written, "skipped": done.len(), "failed": failed});
+    let mut summary = json!({
+        "written": written, "skipped": done.len(), "failed": failed, "stages": stages.json(),
+    });
     if args.samples > 1 {
         summary["sub_frames"] = json!({"summed_on_gpu": summed.0, "averaged_on_cpu": summed.1});
     }
@@ -381,8 +393,10 @@ fn place(
     progress: &Progress,
     kill: KillAt,
     failed: &mut Vec<u64>,
+    stages: &mut RunStages,
 ) {
     let frame = finished.frame;
+    let committing = Instant::now();
     let result = finished.result.and_then(|written| {
         let mut errors = Vec::new();
         for (partial, path) in written {
@@ -401,6 +415,7 @@ fn place(
             Err(errors)
         }
     });
+    stages.placed(result.is_ok(), &finished.stages, committing.elapsed());
     let seconds = finished.started.elapsed().as_secs_f64();
     let files = plan.files(frame);
     if let Err(errors) = result {
@@ -435,20 +450,23 @@ fn note_preroll(progress: &Progress, plan: &Plan, todo: &[u64]) {
 
 /// Evaluate, without writing, the frames `frame` needs before it: its
 /// preroll, or the frames since the last one rendered when that is nearer
-/// (the run stays continuous, as a full run would be).
-fn preroll(evaluator: &mut Evaluator, plan: &Plan, next: &mut Option<u64>, frame: u64) {
+/// (the run stays continuous, as a full run would be). Returns how many.
+fn preroll(evaluator: &mut Evaluator, plan: &Plan, next: &mut Option<u64>, frame: u64) -> u64 {
     let start = plan.range.start_for(frame, plan.preroll.frames());
     let from = match *next {
         Some(n) if n >= start && n <= frame => n,
         _ => start,
     };
     let mut f = from;
+    let mut count = 0;
     while f < frame {
         // A preroll frame that fails is not this frame's failure: its own evaluation says.
         let _ = evaluator.frame(f);
         f += plan.range.step;
+        count += 1;
     }
     *next = Some(frame + plan.range.step);
+    count
 }
 
 fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<bool> {
@@ -486,12 +504,12 @@ fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<boo
     let mut next = None;
     for &frame in &frames {
         preroll(&mut evaluator, plan, &mut next, frame);
-        let started = std::time::Instant::now();
+        let started = Instant::now();
         let pushed = evaluator.frame(frame).and_then(|captured| {
-            let images = captured.resolve()?;
-            for (rendered, video) in images.iter().zip(videos.iter_mut()) {
+            let resolved = captured.resolve()?;
+            for (rendered, video) in resolved.images.into_iter().zip(videos.iter_mut()) {
                 video
-                    .push(&rendered.image, rendered.encoding)
+                    .push(&rendered.pixels.into_f32(), rendered.encoding)
                     .map_err(|e| vec![format!("{e:#}")])?;
             }
             Ok(())

@@ -21,7 +21,7 @@ use std::sync::OnceLock;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::readback::{ImageF32, PendingImage, readback_layout, srgb_to_linear};
+use crate::readback::{ImageF32, PendingImage, Pixels, Readback, readback_layout, srgb_to_linear};
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, PipelineRef};
 use crate::texture_pool::TextureKey;
@@ -384,12 +384,24 @@ impl PendingSum {
     /// Wait for the copy and return the average: each float of the sum
     /// divided by the count, in f64, rounded to f32 once.
     pub fn wait(self) -> Result<ImageF32, RenderError> {
+        Ok(self.wait_readback()?.pixels.into_f32())
+    }
+
+    /// [`PendingSum::wait`] with the time it took (the division counts as
+    /// taking the rows out).
+    pub fn wait_readback(self) -> Result<Readback, RenderError> {
         let n = f64::from(self.count.max(1));
-        let mut image = self.image.wait()?;
+        let read = self.image.wait_pixels()?;
+        let started = std::time::Instant::now();
+        let mut image = read.pixels.into_f32();
         for p in &mut image.pixels {
             *p = p.map(|v| (f64::from(v) / n) as f32);
         }
-        Ok(image)
+        Ok(Readback {
+            pixels: Pixels::Float(image),
+            waited: read.waited,
+            copied: read.copied + started.elapsed(),
+        })
     }
 }
 
