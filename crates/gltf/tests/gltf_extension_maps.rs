@@ -1518,3 +1518,161 @@ fn lit_transparency_draws_the_sheen() {
     }
     assert!(checked > 600, "{checked} pixels checked");
 }
+
+/// How many compiled resolves write the sheen and film target.
+fn sheen_film_resolves(renderer: &Renderer) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| k.features.contains("SHEEN_FILM"))
+        .count()
+}
+
+/// KHR_materials_sheen's maps through the G-buffer's sheen and film
+/// target into CookTorrance (SHEEN): a sheenColorTexture whose left half is
+/// white and right half magenta (no green) and a sheenRoughnessTexture whose
+/// top half has alpha 1 and bottom half 128/255; every inner pixel of each
+/// quadrant against `spreadlight_reference::sheen` with the factors times
+/// that quadrant's texels. A file whose sheen has factors alone writes no
+/// such target; no warning says a map is not sampled.
+#[test]
+fn the_sheen_maps_colour_each_half_as_the_reference_says() {
+    let renderer = test_renderer();
+    let _ = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
+    assert_eq!(
+        sheen_film_resolves(&renderer),
+        0,
+        "factors alone: no sheen and film target"
+    );
+    let ext = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7],
+        "sheenRoughnessFactor": 0.6, "sheenColorTexture": {"index": {0}},
+        "sheenRoughnessTexture": {"index": {1}}}}"#;
+    let colour = halves([255, 255, 255, 255], [255, 0, 255, 255], false);
+    let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
+    let (d, s) = lit(&renderer, &model(opaque_material(), ext, &[colour, roughness]));
+    assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    let mut checked = [0; 4];
+    for (i, p, column, row) in inner_pixels() {
+        let green = [SHEEN_COLOR[1], 0.0][column];
+        let colour = [SHEEN_COLOR[0], green, SHEEN_COLOR[2]];
+        let roughness = SHEEN_ROUGHNESS * [1.0, 128.0 / 255.0][row];
+        let (want_d, want_s) = sheened_reference(p, (colour, roughness));
+        for c in 0..3 {
+            assert!(
+                close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                "pixel {i} (column {column}, row {row}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    // The halves differ as the map says: the right half's sheen has no
+    // green, so its specular (the base's grey plus the sheen) is redder.
+    let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
+    let (left, right) = (at(SIZE.0 / 4, SIZE.1 / 4), at(3 * SIZE.0 / 4, SIZE.1 / 4));
+    let green = |p: [f32; 4]| p[1] / p[0].max(1e-6);
+    assert!(green(s.pixels[right]) + 0.05 < green(s.pixels[left]));
+}
+
+/// KHR_materials_iridescence's maps through the sheen and film target into
+/// CookTorrance (IRIDESCENCE): an iridescenceTexture whose left half is red
+/// 1 and right half 128/255 (the factor) and an iridescenceThicknessTexture
+/// whose top half is green 0 (the minimum, 250 nm) and bottom half 1 (the
+/// maximum, 650 nm); every inner pixel of each quadrant against
+/// `cook_torrance_iridescent` with that film. A film of a minimum above its
+/// maximum and an extreme thickness stay finite under maps.
+#[test]
+fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
+    let renderer = test_renderer();
+    let ext = r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1.0,
+        "iridescenceThicknessMinimum": 250, "iridescenceThicknessMaximum": 650,
+        "iridescenceTexture": {"index": {0}}, "iridescenceThicknessTexture": {"index": {1}}}}"#;
+    let factor = halves([255, 0, 0, 255], [128, 0, 0, 255], false);
+    let thickness = halves([0, 0, 0, 255], [0, 255, 0, 255], true);
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, &[factor.clone(), thickness.clone()]),
+    );
+    assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 4];
+    for (i, p, column, row) in inner_pixels() {
+        let film = Film::new(
+            [1.0, 128.0 / 255.0][column],
+            1.3,
+            [250.0, 650.0][row],
+        );
+        let view = (eye - p).normalize();
+        let want = cook_torrance_iridescent(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            0.04,
+            film,
+            true,
+        );
+        let (want_d, want_s) = (want.diffuse * radiance, want.specular * radiance);
+        for c in 0..3 {
+            assert!(
+                close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                "pixel {i} (column {column}, row {row}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    // The two thicknesses colour the highlight differently.
+    let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
+    let (top, bottom) = (at(SIZE.0 / 4, SIZE.1 / 4), at(SIZE.0 / 4, 3 * SIZE.1 / 4));
+    let hue = |p: [f32; 4]| p[1] / p[0].max(1e-6);
+    assert!((hue(s.pixels[top]) - hue(s.pixels[bottom])).abs() > 0.05);
+    // Hard films under maps: a minimum above the maximum (warned, kept),
+    // a thickness of 1e30 nm; every pixel finite (`render_and_read` below).
+    for hard in [
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMinimum": 900,
+            "iridescenceThicknessMaximum": 0, "iridescenceTexture": {"index": {0}},
+            "iridescenceThicknessTexture": {"index": {1}}}}"#,
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 1e30,
+            "iridescenceThicknessTexture": {"index": {1}}, "iridescenceTexture": {"index": {0}}}}"#,
+    ] {
+        let file = model(opaque_material(), hard, &[factor.clone(), thickness.clone()]);
+        let scene = load_gltf_slice(&file, None).expect("loads");
+        let (world, layer) = world_and_layer(
+            &renderer,
+            &scene,
+            Mat4::IDENTITY,
+            scene.materials[0].base_color,
+        );
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            vec![layer],
+            VIEW.camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g,
+            LightBuffer::suns(&renderer, &[SUN]),
+            LightLoop::Clustered,
+            true,
+            Surfaces::Materials(world),
+        );
+        let (report, images) =
+            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+                .expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        assert!(images.iter().all(|i| i.all_finite()), "{hard}: no NaN or infinity");
+    }
+}

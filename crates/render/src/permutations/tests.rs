@@ -360,12 +360,13 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
         Rule::Requires("EXTENSION_MAPS", "MATERIAL_MAPS"),
         Rule::Requires("ANISOTROPY", "MATERIAL_MAPS"),
+        Rule::Requires("SHEEN_FILM", "EXTENSION_MAPS"),
         Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
         Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
         Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"]),
     ];
     let (sets, n) = keyed("gbuffer/resolve.wgsl");
-    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 1368));
+    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 1752));
     let cook_torrance: &[&str] = crate::lighting::cook_torrance_key::CookTorranceKey::FEATURES;
     let cook_torrance_rules = [
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
