@@ -48,10 +48,16 @@ fn film_at(id: u32, pixel: vec2<u32>, texel: vec4<u32>) -> vec3<f32> {
     if (!sheen_film_written(id, texel)) {
         return iridescence_at(id, pixel);
     }
+    return film_of(id, unpack2x16unorm(texel.z));
+}
+
+// Material `id`'s film as its maps make it: `mapped` the factor (0..1)
+// and where the thickness lies from the minimum (0) to the maximum (1)
+// (`mapped_film`); the index is the material's.
+fn film_of(id: u32, mapped: vec2<f32>) -> vec3<f32> {
     let params = feature_param(id, FEATURE_IRIDESCENCE, 0u, vec4<f32>(0.0, 1.3, 0.0, 0.0));
-    let mapped = unpack2x16unorm(texel.z);
-    let thickness = max(mix(params.z, params.w, mapped.y), 0.0);
+    let thickness = max(mix(params.z, params.w, clamp(mapped.y, 0.0, 1.0)), 0.0);
     // A film of no thickness has no factor (as `iridescence_at`).
-    let factor = select(0.0, mapped.x, thickness > 0.0);
+    let factor = select(0.0, clamp(mapped.x, 0.0, 1.0), thickness > 0.0);
     return vec3<f32>(factor, max(params.y, 1.0), thickness);
 }

@@ -1538,7 +1538,7 @@ fn sheen_film_resolves(renderer: &Renderer) -> usize {
 #[test]
 fn the_sheen_maps_colour_each_half_as_the_reference_says() {
     let renderer = test_renderer();
-    let _ = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
+    let (_, factors_s) = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
     assert_eq!(
         sheen_film_resolves(&renderer),
         0,
@@ -1568,12 +1568,12 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
         checked[column + 2 * row] += 1;
     }
     assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
-    // The halves differ as the map says: the right half's sheen has no
-    // green, so its specular (the base's grey plus the sheen) is redder.
+    // The map changes what the factors alone draw: the right half's sheen
+    // has no green (less green specular), the left half's is the factors'.
     let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
     let (left, right) = (at(SIZE.0 / 4, SIZE.1 / 4), at(3 * SIZE.0 / 4, SIZE.1 / 4));
-    let green = |p: [f32; 4]| p[1] / p[0].max(1e-6);
-    assert!(green(s.pixels[right]) + 0.05 < green(s.pixels[left]));
+    assert!(s.pixels[right][1] < factors_s.pixels[right][1]);
+    assert!(close(s.pixels[left][1], factors_s.pixels[left][1]));
 }
 
 /// KHR_materials_iridescence's maps through the sheen and film target into
@@ -1675,4 +1675,107 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         assert!(images.iter().all(|i| i.all_finite()), "{hard}: no NaN or infinity");
     }
+}
+
+/// A BLEND quad with a thin film through lit transparency's forward light
+/// pass (IRIDESCENCE; a node with an iridescent layer shades forward under
+/// Auto), its factor and thickness from maps in four quadrants as in
+/// `the_iridescence_maps_set_the_film_per_half_as_the_reference_says`:
+/// every inner pixel's colour against `cook_torrance_iridescent`, as the
+/// opaque surface's. A soap bubble is such a layer.
+#[test]
+fn lit_transparency_draws_the_film() {
+    let renderer = test_renderer();
+    let mut material = opaque_material();
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let ext = r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1.0,
+        "iridescenceThicknessMinimum": 250, "iridescenceThicknessMaximum": 650,
+        "iridescenceTexture": {"index": {0}}, "iridescenceThicknessTexture": {"index": {1}}}}"#;
+    let factor = halves([255, 0, 0, 255], [128, 0, 0, 255], false);
+    let thickness = halves([0, 0, 0, 255], [0, 255, 0, 255], true);
+    let scene =
+        load_gltf_slice(&model(material, ext, &[factor, thickness]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(
+        &renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
+    let lights = vec![TransparentLights {
+        lights: LightBuffer::suns(&renderer, &[SUN]),
+        shadows: None,
+    }];
+    let pass = Transparency::lit(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights,
+            ..Default::default()
+        },
+    );
+    assert!(!pass.shades_in_compute(), "an iridescent layer shades forward");
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("IRIDESCENCE")),
+        "the light pass compiled the film"
+    );
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 4];
+    for (i, p, column, row) in inner_pixels() {
+        let film = Film::new(
+            [1.0, 128.0 / 255.0][column],
+            1.3,
+            [250.0, 650.0][row],
+        );
+        let view = (eye - p).normalize();
+        let brdf = cook_torrance_iridescent(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            0.04,
+            film,
+            true,
+        );
+        let want = (brdf.diffuse + brdf.specular) * radiance;
+        for c in 0..3 {
+            // Half-float accumulation: about three decimal digits.
+            assert!(
+                (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                "pixel {i} (column {column}, row {row}): {:?}, the reference says {want}",
+                pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
 }

@@ -38,6 +38,13 @@ pub struct TransparencyKey {
     /// a sheen layer shades forward under Auto: the compute records keep
     /// no sheen).
     pub sheen: bool,
+    /// The thin film (IRIDESCENCE): a forward light pass of a layer whose
+    /// world has an Iridescence material mixes the film's Fresnel into its
+    /// fragments' specular and diffuse weights as CookTorrance does. Only
+    /// light passes of a surface with a material world (a node with an
+    /// iridescent layer shades forward under Auto: the compute records keep
+    /// no film).
+    pub iridescence: bool,
 }
 
 /// What a layer's fragments read.
@@ -323,6 +330,7 @@ impl Permutation for TransparencyKey {
         "CLEARCOAT",
         "ANISOTROPY",
         "SHEEN",
+        "IRIDESCENCE",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -359,6 +367,7 @@ impl Permutation for TransparencyKey {
             .chain(self.coat.then_some("CLEARCOAT"))
             .chain(self.anisotropy.then_some("ANISOTROPY"))
             .chain(self.sheen.then_some("SHEEN"))
+            .chain(self.iridescence.then_some("IRIDESCENCE"))
     }
 
     /// Every surface with the base passes (a matcap only with a material
@@ -423,12 +432,19 @@ impl Permutation for TransparencyKey {
                                         [false, true]
                                             .into_iter()
                                             .filter(move |&sheen| !sheen || sheens)
-                                            .map(move |sheen| TransparencyKey {
-                                                surface,
-                                                pass,
-                                                coat,
-                                                anisotropy,
-                                                sheen,
+                                            .flat_map(move |sheen| {
+                                                // The film goes where the sheen may.
+                                                [false, true]
+                                                    .into_iter()
+                                                    .filter(move |&film| !film || sheens)
+                                                    .map(move |iridescence| TransparencyKey {
+                                                        surface,
+                                                        pass,
+                                                        coat,
+                                                        anisotropy,
+                                                        sheen,
+                                                        iridescence,
+                                                    })
                                             })
                                     })
                             })
@@ -451,6 +467,7 @@ impl Permutation for TransparencyKey {
                             coat,
                             anisotropy: false,
                             sheen: false,
+            iridescence: false,
                         })
                     })
                     .chain([TransparencyKey::SHADED_RESOLVE]),
@@ -477,6 +494,7 @@ impl TransparencyKey {
         coat: false,
         anisotropy: false,
         sheen: false,
+        iridescence: false,
     };
 
     /// The resolve of a frame whose lights were shaded in compute.
@@ -486,6 +504,7 @@ impl TransparencyKey {
         coat: false,
         anisotropy: false,
         sheen: false,
+        iridescence: false,
     };
 }
 
@@ -596,6 +615,7 @@ mod tests {
         let coated_shade = TransparencyKey {
             coat: true,
             sheen: false,
+            iridescence: false,
             ..shade
         };
         assert!(all.contains(&coated_shade));
@@ -603,6 +623,11 @@ mod tests {
         // The sheen: forward light passes of surfaces with a material world only.
         assert!(all.iter().any(|k| k.sheen));
         assert!(all.iter().filter(|k| k.sheen).all(|k| {
+            matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
+        }));
+        // The film likewise.
+        assert!(all.iter().any(|k| k.iridescence && !k.sheen));
+        assert!(all.iter().filter(|k| k.iridescence).all(|k| {
             matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
         }));
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
@@ -618,6 +643,7 @@ mod tests {
         assert!(!all.contains(&TransparencyKey {
             coat: true,
             sheen: false,
+            iridescence: false,
             ..TransparencyKey::COMPOSITE
         }));
     }
