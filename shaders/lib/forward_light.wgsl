@@ -10,8 +10,9 @@
 // the coat's lobe on the coat's own normal (lit transparency's coated layers);
 // ANISOTROPY stretches the specular lobe along the fragment's anisotropy
 // direction (lib/anisotropy.wgsl; lit transparency's anisotropic layers);
-// SHEEN the sheen's Charlie lobe (lib/sheen.wgsl) and its dimming of the base;
-// IRIDESCENCE sums what the thin film's diffuse takes (`filmed_light`).
+// SHEEN the sheen's Charlie lobe (lib/sheen.wgsl) and its dimming of the base,
+// and sums what a thin film's diffuse takes (`filmed_light`: lit
+// transparency compiles its extension lobes under one switch).
 #define_import_path spreadlight::forward_light
 #import spreadlight::brdf::{BrdfSurface, LightSums, add_light, cook_torrance_weights, half_vector_cosines}
 #import spreadlight::lights::{range_window, inverse_square}
@@ -25,7 +26,7 @@
 #ifdef CLEARCOAT
 #import spreadlight::brdf::{cook_torrance_weights_scaled, schlick_weight, DIELECTRIC_F0}
 #endif
-#ifdef IRIDESCENCE
+#ifdef SHEEN
 #import spreadlight::brdf::Brdf
 #endif
 #ifdef ANISOTROPY
@@ -56,7 +57,7 @@ var<private> coat_factor: f32;
 var<private> coat_surface: BrdfSurface;
 var<private> coat_sum: vec3<f32>;
 #endif
-#ifdef IRIDESCENCE
+#ifdef SHEEN
 // The shaded fragment's thin film, set by the importer before its lights:
 // its factor (0: none), its Fresnel at N.V (lib/iridescence.wgsl), and the
 // summed radiance N.L its diffuse takes, as CookTorrance keeps them.
@@ -158,7 +159,7 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
         coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
     }
 #endif
-#ifdef IRIDESCENCE
+#ifdef SHEEN
     if (film_factor > 0.0 && n_dot_l > 0.0) {
         film_lit += radiance * (min(n_dot_l, 1.0) * attenuation);
     }
@@ -170,7 +171,7 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
 #endif
 }
 
-#ifdef IRIDESCENCE
+#ifdef SHEEN
 // The film over a lit fragment of surface `s` (the private film state,
 // summed over its lights), as CookTorrance's IRIDESCENCE: F = mix(Schlick's,
 // the film's, factor), the film's F one per fragment, so its specular is F

@@ -65,13 +65,14 @@
 // SHEEN (forward light passes of a layer whose world has a Sheen material):
 // the sheen's Charlie lobe and the base's dimming under it, as CookTorrance
 // draws them (lib/forward_light.wgsl's sheened_specular), under the coat;
-// with EXTENSION_MAPS the sheen's colour and roughness maps scale it.
-// IRIDESCENCE (forward light passes of a layer whose world has an
-// Iridescence material): the thin film's Fresnel at N.V (lib/iridescence.wgsl)
-// mixed into the specular and diffuse weights by the factor, as
-// CookTorrance draws it (lib/forward_light.wgsl's filmed_light); with
-// EXTENSION_MAPS the iridescence and thickness maps set the factor and
-// thickness per fragment. A soap bubble is a BLEND film.
+// with EXTENSION_MAPS the sheen's colour and roughness maps scale it. The
+// same switch (a layer whose world has an Iridescence material) draws a
+// thin film: its Fresnel at N.V (lib/iridescence.wgsl) mixed into the
+// specular and diffuse weights by the factor, as CookTorrance's IRIDESCENCE
+// draws it (lib/forward_light.wgsl's filmed_light); with EXTENSION_MAPS the
+// iridescence and thickness maps set the factor and thickness per
+// fragment. A soap bubble is a BLEND film. (One switch for both lobes,
+// branched per material: a switch of its own would double the light passes.)
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -178,8 +179,6 @@
 #ifdef EXTENSION_MAPS
 #import spreadlight::material_maps::mapped_sheen
 #endif
-#endif
-#ifdef IRIDESCENCE
 // The shaded fragment's film (a light pass of a layer whose world has an
 // Iridescence material), whose diffuse light the light function sums.
 #import spreadlight::material::iridescence_at
@@ -853,7 +852,7 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     sheen_roughness = sheen.a;
     sheen_sum = vec3<f32>(0.0);
 #endif
-#ifdef IRIDESCENCE
+#ifdef SHEEN
     // The fragment's film (its maps' factor and thickness with
     // EXTENSION_MAPS), its Fresnel made once for all its lights.
 #ifdef EXTENSION_MAPS
@@ -871,7 +870,7 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #endif
     let sums = light_sums(in.clip.xy, in.world, s, in.distance);
     var lit = light_sums_brdf(s, sums);
-#ifdef IRIDESCENCE
+#ifdef SHEEN
     lit = filmed_light(s, sums, lit);
 #endif
     var specular = lit.specular;

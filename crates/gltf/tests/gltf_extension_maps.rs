@@ -13,9 +13,11 @@
 //! a quad's checkered base colour texture.
 //! `KHR_materials_anisotropy`'s factors and map through the G-buffer's
 //! anisotropy target into CookTorrance, against the CPU anisotropic lobe
-//! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`
-//! (factor-only: its maps are not sampled yet): the film's Fresnel at every
-//! inner pixel against `reference::iridescence`.
+//! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`:
+//! the film's Fresnel at every inner pixel against `reference::iridescence`,
+//! its factor and thickness maps (through the G-buffer's sheen and film
+//! target, and through lit transparency's forward light pass), and
+//! `KHR_materials_sheen`'s colour and roughness maps likewise.
 
 // The post tests' scene helpers, shared with the renderer's tests.
 use crate::post_common;
@@ -1544,6 +1546,14 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
         0,
         "factors alone: no sheen and film target"
     );
+    let written = |renderer: &Renderer| {
+        renderer
+            .last_report()
+            .counters
+            .get("G-buffer sheen and film targets written")
+            .copied()
+    };
+    assert_eq!(written(&renderer), None, "stats show no target");
     let ext = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7],
         "sheenRoughnessFactor": 0.6, "sheenColorTexture": {"index": {0}},
         "sheenRoughnessTexture": {"index": {1}}}}"#;
@@ -1551,6 +1561,7 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
     let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
     let (d, s) = lit(&renderer, &model(opaque_material(), ext, &[colour, roughness]));
     assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    assert_eq!(written(&renderer), Some(1), "stats show the target");
     let mut checked = [0; 4];
     for (i, p, column, row) in inner_pixels() {
         let green = [SHEEN_COLOR[1], 0.0][column];
@@ -1678,8 +1689,8 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
 }
 
 /// A BLEND quad with a thin film through lit transparency's forward light
-/// pass (IRIDESCENCE; a node with an iridescent layer shades forward under
-/// Auto), its factor and thickness from maps in four quadrants as in
+/// pass (compiled under SHEEN, the switch of its extension lobes; a node
+/// with an iridescent layer shades forward under Auto), its factor and thickness from maps in four quadrants as in
 /// `the_iridescence_maps_set_the_film_per_half_as_the_reference_says`:
 /// every inner pixel's colour against `cook_torrance_iridescent`, as the
 /// opaque surface's. A soap bubble is such a layer.
@@ -1741,8 +1752,8 @@ fn lit_transparency_draws_the_film() {
         renderer
             .shaders()
             .compiled_keys()
-            .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("IRIDESCENCE")),
-        "the light pass compiled the film"
+            .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("SHEEN")),
+        "the light pass compiled the film (under SHEEN)"
     );
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;

@@ -32,19 +32,15 @@ pub struct TransparencyKey {
     /// forward, whatever its shading asks (the compute records carry no
     /// direction).
     pub anisotropy: bool,
-    /// The sheen (SHEEN): a forward light pass of a layer whose world has a
-    /// Sheen material adds the sheen's lobe and dims the base under it.
+    /// The sheen and the thin film (SHEEN): a forward light pass of a layer
+    /// whose world has a Sheen material adds the sheen's lobe and dims the
+    /// base under it; one whose world has an Iridescence material mixes the
+    /// film's Fresnel into the specular and diffuse weights (one switch for
+    /// both extension lobes, branched per material in the shader).
     /// Only light passes of a surface with a material world (a node with
     /// a sheen layer shades forward under Auto: the compute records keep
     /// no sheen).
     pub sheen: bool,
-    /// The thin film (IRIDESCENCE): a forward light pass of a layer whose
-    /// world has an Iridescence material mixes the film's Fresnel into its
-    /// fragments' specular and diffuse weights as CookTorrance does. Only
-    /// light passes of a surface with a material world (a node with an
-    /// iridescent layer shades forward under Auto: the compute records keep
-    /// no film).
-    pub iridescence: bool,
 }
 
 /// What a layer's fragments read.
@@ -330,7 +326,6 @@ impl Permutation for TransparencyKey {
         "CLEARCOAT",
         "ANISOTROPY",
         "SHEEN",
-        "IRIDESCENCE",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -367,7 +362,6 @@ impl Permutation for TransparencyKey {
             .chain(self.coat.then_some("CLEARCOAT"))
             .chain(self.anisotropy.then_some("ANISOTROPY"))
             .chain(self.sheen.then_some("SHEEN"))
-            .chain(self.iridescence.then_some("IRIDESCENCE"))
     }
 
     /// Every surface with the base passes (a matcap only with a material
@@ -432,19 +426,12 @@ impl Permutation for TransparencyKey {
                                         [false, true]
                                             .into_iter()
                                             .filter(move |&sheen| !sheen || sheens)
-                                            .flat_map(move |sheen| {
-                                                // The film goes where the sheen may.
-                                                [false, true]
-                                                    .into_iter()
-                                                    .filter(move |&film| !film || sheens)
-                                                    .map(move |iridescence| TransparencyKey {
-                                                        surface,
-                                                        pass,
-                                                        coat,
-                                                        anisotropy,
-                                                        sheen,
-                                                        iridescence,
-                                                    })
+                                            .map(move |sheen| TransparencyKey {
+                                                surface,
+                                                pass,
+                                                coat,
+                                                anisotropy,
+                                                sheen,
                                             })
                                     })
                             })
@@ -467,7 +454,6 @@ impl Permutation for TransparencyKey {
                             coat,
                             anisotropy: false,
                             sheen: false,
-            iridescence: false,
                         })
                     })
                     .chain([TransparencyKey::SHADED_RESOLVE]),
@@ -494,7 +480,6 @@ impl TransparencyKey {
         coat: false,
         anisotropy: false,
         sheen: false,
-        iridescence: false,
     };
 
     /// The resolve of a frame whose lights were shaded in compute.
@@ -504,7 +489,6 @@ impl TransparencyKey {
         coat: false,
         anisotropy: false,
         sheen: false,
-        iridescence: false,
     };
 }
 
@@ -615,7 +599,6 @@ mod tests {
         let coated_shade = TransparencyKey {
             coat: true,
             sheen: false,
-            iridescence: false,
             ..shade
         };
         assert!(all.contains(&coated_shade));
@@ -623,11 +606,6 @@ mod tests {
         // The sheen: forward light passes of surfaces with a material world only.
         assert!(all.iter().any(|k| k.sheen));
         assert!(all.iter().filter(|k| k.sheen).all(|k| {
-            matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
-        }));
-        // The film likewise.
-        assert!(all.iter().any(|k| k.iridescence && !k.sheen));
-        assert!(all.iter().filter(|k| k.iridescence).all(|k| {
             matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
         }));
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
@@ -643,7 +621,6 @@ mod tests {
         assert!(!all.contains(&TransparencyKey {
             coat: true,
             sheen: false,
-            iridescence: false,
             ..TransparencyKey::COMPOSITE
         }));
     }

@@ -464,7 +464,6 @@ impl Transparency {
                     coat: Self::coat(world, pass),
                     anisotropy: Self::anisotropy(surface, world, pass),
                     sheen: Self::sheen(world, pass),
-                    iridescence: Self::iridescence(world, pass),
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -479,7 +478,6 @@ impl Transparency {
                     coat: self.coated(),
                     anisotropy: false,
                     sheen: false,
-                    iridescence: false,
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -575,19 +573,14 @@ impl Transparency {
             && matches!(pass, TransparencyPass::Light(_))
     }
 
-    /// Whether a pass of a layer reading `world` compiles the sheen
-    /// ([`TransparencyKey::sheen`]): a light pass of a world with a Sheen material.
+    /// Whether a pass of a layer reading `world` compiles the sheen and the
+    /// thin film ([`TransparencyKey::sheen`]): a light pass of a world with
+    /// a Sheen or an Iridescence material. One switch for both (the shader
+    /// branches per material): a switch of its own for the film would add
+    /// 3,080 permutations for a few dozen lines of code.
     fn sheen(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
         matches!(pass, TransparencyPass::Light(_))
-            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN))
-    }
-
-    /// Whether a pass of a layer reading `world` compiles the thin film
-    /// ([`TransparencyKey::iridescence`]): a light pass of a world with an
-    /// Iridescence material.
-    fn iridescence(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
-        matches!(pass, TransparencyPass::Light(_))
-            && world.is_some_and(|w| w.any_has(FEATURE_IRIDESCENCE))
+            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN) || w.any_has(FEATURE_IRIDESCENCE))
     }
 
     /// Some layer of the node has a coat: the compute shading reads coat
@@ -742,7 +735,6 @@ impl Transparency {
                         coat: Self::coat(world, pass),
                         anisotropy: Self::anisotropy(surface, world, pass),
                         sheen: Self::sheen(world, pass),
-                    iridescence: Self::iridescence(world, pass),
                     }
                     .key();
                     let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
@@ -945,7 +937,6 @@ impl Transparency {
             coat: lists.coat.is_some(),
             anisotropy: false,
             sheen: false,
-            iridescence: false,
         }
         .key();
         let size = cx.size_of(io.accumulation)?;
