@@ -1790,3 +1790,128 @@ fn lit_transparency_draws_the_film() {
     }
     assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
 }
+
+/// Reflection's sheen term (SHEEN) under a uniform environment of `model`'s
+/// quad, its material made reflective: the specular and diffuse outputs.
+fn reflected(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
+    use spreadlight_gltf::MaterialData;
+    use spreadlight_render::environment::{
+        Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, Reflection,
+        ReflectionMode,
+    };
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures};
+    use spreadlight_render::material::{Feature, MaterialWorld};
+    let scene = load_gltf_slice(model, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &scene.meshes[0])
+        .expect("upload");
+    let materials = std::iter::once(MaterialData::default())
+        .chain(scene.materials.iter().cloned())
+        .map(|m| {
+            m.to_material()
+                .with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
+                .expect("valid")
+        })
+        .collect();
+    let world = MaterialWorld::new(renderer, materials);
+    let instance = InstanceInput {
+        transform: Mat4::IDENTITY,
+        previous_transform: Mat4::IDENTITY,
+        color: scene.materials[0].base_color,
+        material_id: 1,
+        object_id: 1,
+    };
+    let layer = Layer::new(
+        Some(1),
+        vec![DrawBatch {
+            mesh,
+            instances: vec![instance],
+        }],
+        LayerFeatures::default(),
+        None,
+    )
+    .expect("layer")
+    .with_materials(Some(world.clone()));
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![Arc::new(layer)],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[0.5, 0.5, 0.5, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 16,
+        },
+    );
+    let r = Reflection::new(renderer, None, g, world, environment, ReflectionMode::Reflect);
+    let (report, images) =
+        render_and_read(renderer, r.as_ref(), SIZE, &[&r.specular, &r.diffuse]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let [s, d]: [ImageF32; 2] = images.try_into().unwrap_or_else(|_| unreachable!());
+    assert!(s.all_finite() && d.all_finite(), "no NaN or infinity");
+    (s, d)
+}
+
+/// Reflection reads the sheen and film target too: the quad of
+/// `the_sheen_maps_colour_each_half_as_the_reference_says`, reflective
+/// under a uniform environment, gives each quadrant's pixels what a quad
+/// whose sheen factors are that quadrant's colour and roughness gives
+/// (the sheen's environment light and the base's dimming, specular and
+/// diffuse; unorm16 in the target), and the quadrants differ.
+#[test]
+fn reflection_lights_the_sheen_maps_per_pixel() {
+    let renderer = test_renderer();
+    let ext = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7],
+        "sheenRoughnessFactor": 0.6, "sheenColorTexture": {"index": {0}},
+        "sheenRoughnessTexture": {"index": {1}}}}"#;
+    let colour = halves([255, 255, 255, 255], [255, 0, 255, 255], false);
+    let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
+    let (s, d) = reflected(&renderer, &model(opaque_material(), ext, &[colour, roughness]));
+    assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    let mut quadrants = Vec::new();
+    for row in 0..2 {
+        for column in 0..2 {
+            let green = [SHEEN_COLOR[1], 0.0][column];
+            let roughness = SHEEN_ROUGHNESS * [1.0, 128.0 / 255.0][row];
+            let factors = format!(
+                r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [0.9, {green}, 0.7],
+                    "sheenRoughnessFactor": {roughness}}}}}"#
+            );
+            quadrants.push(reflected(&renderer, &model(opaque_material(), &factors, &[])));
+        }
+    }
+    let mut checked = [0; 4];
+    for (i, _, column, row) in inner_pixels() {
+        let (want_s, want_d) = &quadrants[column + 2 * row];
+        for c in 0..3 {
+            assert!(
+                close(s.pixels[i][c], want_s.pixels[i][c])
+                    && close(d.pixels[i][c], want_d.pixels[i][c]),
+                "pixel {i} (column {column}, row {row}): specular {:?} diffuse {:?}, its factors give {:?} {:?}",
+                s.pixels[i],
+                d.pixels[i],
+                want_s.pixels[i],
+                want_d.pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    // The map matters: its magenta half reflects less green than the
+    // factors' colour alone would there.
+    let right = (SIZE.1 / 4 * SIZE.0 + 3 * SIZE.0 / 4) as usize;
+    assert!(s.pixels[right][1] < quadrants[0].0.pixels[right][1]);
+}
