@@ -1559,8 +1559,14 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
         "sheenRoughnessTexture": {"index": {1}}}}"#;
     let colour = halves([255, 255, 255, 255], [255, 0, 255, 255], false);
     let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
-    let (d, s) = lit(&renderer, &model(opaque_material(), ext, &[colour, roughness]));
-    assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, &[colour, roughness]),
+    );
+    assert!(
+        sheen_film_resolves(&renderer) >= 1,
+        "the resolve wrote the target"
+    );
     assert_eq!(written(&renderer), Some(1), "stats show the target");
     let mut checked = [0; 4];
     for (i, p, column, row) in inner_pixels() {
@@ -1578,7 +1584,10 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
         }
         checked[column + 2 * row] += 1;
     }
-    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
     // The map changes what the factors alone draw: the right half's sheen
     // has no green (less green specular), the left half's is the factors'.
     let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
@@ -1606,17 +1615,16 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
         &renderer,
         &model(opaque_material(), ext, &[factor.clone(), thickness.clone()]),
     );
-    assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    assert!(
+        sheen_film_resolves(&renderer) >= 1,
+        "the resolve wrote the target"
+    );
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;
     let eye = Vec3::Z * DISTANCE;
     let mut checked = [0; 4];
     for (i, p, column, row) in inner_pixels() {
-        let film = Film::new(
-            [1.0, 128.0 / 255.0][column],
-            1.3,
-            [250.0, 650.0][row],
-        );
+        let film = Film::new([1.0, 128.0 / 255.0][column], 1.3, [250.0, 650.0][row]);
         let view = (eye - p).normalize();
         let want = cook_torrance_iridescent(
             Vec3::Z,
@@ -1640,7 +1648,10 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
         }
         checked[column + 2 * row] += 1;
     }
-    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
     // The two thicknesses colour the highlight differently.
     let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
     let (top, bottom) = (at(SIZE.0 / 4, SIZE.1 / 4), at(SIZE.0 / 4, 3 * SIZE.1 / 4));
@@ -1655,7 +1666,11 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
         r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 1e30,
             "iridescenceThicknessTexture": {"index": {1}}, "iridescenceTexture": {"index": {0}}}}"#,
     ] {
-        let file = model(opaque_material(), hard, &[factor.clone(), thickness.clone()]);
+        let file = model(
+            opaque_material(),
+            hard,
+            &[factor.clone(), thickness.clone()],
+        );
         let scene = load_gltf_slice(&file, None).expect("loads");
         let (world, layer) = world_and_layer(
             &renderer,
@@ -1684,7 +1699,10 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
             render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
                 .expect("renders");
         assert!(report.errors.is_empty(), "{:?}", report.errors);
-        assert!(images.iter().all(|i| i.all_finite()), "{hard}: no NaN or infinity");
+        assert!(
+            images.iter().all(|i| i.all_finite()),
+            "{hard}: no NaN or infinity"
+        );
     }
 }
 
@@ -1704,8 +1722,7 @@ fn lit_transparency_draws_the_film() {
         "iridescenceTexture": {"index": {0}}, "iridescenceThicknessTexture": {"index": {1}}}}"#;
     let factor = halves([255, 0, 0, 255], [128, 0, 0, 255], false);
     let thickness = halves([0, 0, 0, 255], [0, 255, 0, 255], true);
-    let scene =
-        load_gltf_slice(&model(material, ext, &[factor, thickness]), None).expect("loads");
+    let scene = load_gltf_slice(&model(material, ext, &[factor, thickness]), None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let g = GBuffer::new(
         &renderer,
@@ -1744,7 +1761,10 @@ fn lit_transparency_draws_the_film() {
             ..Default::default()
         },
     );
-    assert!(!pass.shades_in_compute(), "an iridescent layer shades forward");
+    assert!(
+        !pass.shades_in_compute(),
+        "an iridescent layer shades forward"
+    );
     let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
         .1
         .pixels;
@@ -1760,11 +1780,7 @@ fn lit_transparency_draws_the_film() {
     let eye = Vec3::Z * DISTANCE;
     let mut checked = [0; 4];
     for (i, p, column, row) in inner_pixels() {
-        let film = Film::new(
-            [1.0, 128.0 / 255.0][column],
-            1.3,
-            [250.0, 650.0][row],
-        );
+        let film = Film::new([1.0, 128.0 / 255.0][column], 1.3, [250.0, 650.0][row]);
         let view = (eye - p).normalize();
         let brdf = cook_torrance_iridescent(
             Vec3::Z,
@@ -1788,7 +1804,10 @@ fn lit_transparency_draws_the_film() {
         }
         checked[column + 2 * row] += 1;
     }
-    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
 }
 
 /// Reflection's sheen term (SHEEN) under a uniform environment of `model`'s
@@ -1856,7 +1875,14 @@ fn reflected(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
             samples: 16,
         },
     );
-    let r = Reflection::new(renderer, None, g, world, environment, ReflectionMode::Reflect);
+    let r = Reflection::new(
+        renderer,
+        None,
+        g,
+        world,
+        environment,
+        ReflectionMode::Reflect,
+    );
     let (report, images) =
         render_and_read(renderer, r.as_ref(), SIZE, &[&r.specular, &r.diffuse]).expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
@@ -1879,8 +1905,14 @@ fn reflection_lights_the_sheen_maps_per_pixel() {
         "sheenRoughnessTexture": {"index": {1}}}}"#;
     let colour = halves([255, 255, 255, 255], [255, 0, 255, 255], false);
     let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
-    let (s, d) = reflected(&renderer, &model(opaque_material(), ext, &[colour, roughness]));
-    assert!(sheen_film_resolves(&renderer) >= 1, "the resolve wrote the target");
+    let (s, d) = reflected(
+        &renderer,
+        &model(opaque_material(), ext, &[colour, roughness]),
+    );
+    assert!(
+        sheen_film_resolves(&renderer) >= 1,
+        "the resolve wrote the target"
+    );
     let mut quadrants = Vec::new();
     for row in 0..2 {
         for column in 0..2 {
@@ -1890,7 +1922,10 @@ fn reflection_lights_the_sheen_maps_per_pixel() {
                 r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [0.9, {green}, 0.7],
                     "sheenRoughnessFactor": {roughness}}}}}"#
             );
-            quadrants.push(reflected(&renderer, &model(opaque_material(), &factors, &[])));
+            quadrants.push(reflected(
+                &renderer,
+                &model(opaque_material(), &factors, &[]),
+            ));
         }
     }
     let mut checked = [0; 4];
@@ -1909,7 +1944,10 @@ fn reflection_lights_the_sheen_maps_per_pixel() {
         }
         checked[column + 2 * row] += 1;
     }
-    assert!(checked.iter().all(|&n| n > 150), "{checked:?} pixels per quadrant");
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
     // The map matters: its magenta half reflects less green than the
     // factors' colour alone would there.
     let right = (SIZE.1 / 4 * SIZE.0 + 3 * SIZE.0 / 4) as usize;

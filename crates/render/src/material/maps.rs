@@ -429,9 +429,14 @@ mod tests {
         let srgb: Vec<_> = MapSlot::EXTENSIONS.iter().map(|s| s.srgb()).collect();
         assert_eq!(
             srgb,
-            [false, false, false, true, false, false, false, true, false, false, false]
+            [
+                false, false, false, true, false, false, false, true, false, false, false
+            ]
         );
-        assert_eq!(SPECULAR_FACTORS_PARAM, 33, "MAP_SPECULAR_FACTORS in material_maps.wgsl");
+        assert_eq!(
+            SPECULAR_FACTORS_PARAM, 33,
+            "MAP_SPECULAR_FACTORS in material_maps.wgsl"
+        );
         assert_eq!(EXTENDED_PARAM_COUNT, 35);
     }
 }
