@@ -652,10 +652,24 @@ fn the_sheen_asset_is_what_the_generator_makes_and_loads_clean() {
     // Its baseline without the sheens, for `spreadlight bench` (docs/gltf.md).
     let off_path = path.with_file_name("gltf-sheen-off.gltf");
     let off = super::models::sheen_row_without_sheen();
+    // Its mapped twin, the cost of the sheen and film target.
+    let maps_path = path.with_file_name("gltf-sheen-maps.gltf");
+    let mapped = super::models::sheen_row_with_maps();
     if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
         std::fs::write(&path, &made).unwrap();
         std::fs::write(&off_path, &off).unwrap();
+        std::fs::write(&maps_path, &mapped).unwrap();
     }
+    let committed = std::fs::read(&maps_path).expect("patches/assets/gltf-sheen-maps.gltf");
+    assert!(committed == mapped, "regenerate it with SPREADLIGHT_BLESS=1");
+    let scene = load_gltf_slice(&mapped, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let with_maps: Vec<bool> = scene
+        .materials
+        .iter()
+        .map(|m| m.sheen_color_texture.is_some() && m.sheen_roughness_texture.is_some())
+        .collect();
+    assert_eq!(with_maps, [false, true, true, true]);
     let committed = std::fs::read(&path).expect("patches/assets/gltf-sheen.gltf");
     assert!(committed == made, "regenerate it with SPREADLIGHT_BLESS=1");
     let committed = std::fs::read(&off_path).expect("patches/assets/gltf-sheen-off.gltf");
