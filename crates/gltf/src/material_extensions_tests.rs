@@ -661,7 +661,10 @@ fn the_sheen_asset_is_what_the_generator_makes_and_loads_clean() {
         std::fs::write(&maps_path, &mapped).unwrap();
     }
     let committed = std::fs::read(&maps_path).expect("patches/assets/gltf-sheen-maps.gltf");
-    assert!(committed == mapped, "regenerate it with SPREADLIGHT_BLESS=1");
+    assert!(
+        committed == mapped,
+        "regenerate it with SPREADLIGHT_BLESS=1"
+    );
     let scene = load_gltf_slice(&mapped, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let with_maps: Vec<bool> = scene

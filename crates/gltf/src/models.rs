@@ -569,7 +569,9 @@ fn velvet_row(with_sheen: bool, maps: bool) -> Vec<u8> {
         doc.texture(image).value()
     });
     let textures = map.map_or(String::new(), |t| {
-        format!(r#", "sheenColorTexture": {{"index": {t}}}, "sheenRoughnessTexture": {{"index": {t}}}"#)
+        format!(
+            r#", "sheenColorTexture": {{"index": {t}}}, "sheenRoughnessTexture": {{"index": {t}}}"#
+        )
     });
     // A material's name and its sheen (colour, roughness), if any.
     type Sheen = Option<([f32; 3], f32)>;
