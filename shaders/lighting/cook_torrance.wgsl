@@ -33,6 +33,9 @@
 // (lib/sheen.wgsl) tinted by the material's sheen colour, under the coat and
 // over the base, which it dims by 1 - max(colour) x the lobe's albedo at N.V
 // (glTF's KHR_materials_sheen as the Khronos sample viewer shades it).
+// SHEEN and IRIDESCENCE read a glTF material's mapped sheen and film from
+// the G-buffer's sheen and film target (lib/sheen_film.wgsl; binding 33, a
+// 1x1 "unwritten" stand-in where the G-buffer has none: the factors).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
