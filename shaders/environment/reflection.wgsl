@@ -59,16 +59,31 @@
 #import spreadlight::anisotropy::anisotropic_bent_normal
 #endif
 #ifdef IRIDESCENCE
-#import spreadlight::material::iridescence_at
+#import spreadlight::sheen_film::film_at
 #import spreadlight::iridescence::iridescence_fresnel
+#ifndef SHEEN
+// The G-buffer's sheen and film target (lib/sheen_film.wgsl), or a 1x1
+// stand-in of one unwritten texel where it has none (factors only).
+@group(0) @binding(12) var sheen_film_target: texture_2d<u32>;
+fn sheen_film_texel(pixel: vec2<u32>) -> vec4<u32> {
+    return textureLoad(sheen_film_target, min(pixel, textureDimensions(sheen_film_target) - vec2<u32>(1u)), 0);
+}
+#endif
 #endif
 #ifdef SHEEN
-#import spreadlight::material::{feature_param, FEATURE_SHEEN}
+#import spreadlight::sheen_film::sheen_at
 #import spreadlight::sheen::{sheen_albedo, sheen_scaling}
+// The G-buffer's sheen and film target (lib/sheen_film.wgsl), or a 1x1
+// stand-in of one unwritten texel where it has none (factors only).
+@group(0) @binding(12) var sheen_film_target: texture_2d<u32>;
+fn sheen_film_texel(pixel: vec2<u32>) -> vec4<u32> {
+    return textureLoad(sheen_film_target, min(pixel, textureDimensions(sheen_film_target) - vec2<u32>(1u)), 0);
+}
 
-// A material's sheen: colour (0..1) and roughness; black without one.
-fn sheen_of(material: u32) -> vec4<f32> {
-    return clamp(feature_param(material, FEATURE_SHEEN, 0u, vec4<f32>(0.0)), vec4<f32>(0.0), vec4<f32>(1.0));
+// A material's sheen at a pixel: colour (0..1) and roughness, its maps'
+// where the G-buffer resolved them; black without one.
+fn sheen_of(material: u32, pixel: vec2<u32>) -> vec4<f32> {
+    return sheen_at(material, sheen_film_texel(pixel));
 }
 #endif
 
@@ -181,7 +196,7 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
     let n_dot_v = clamp(dot(n, v), 1e-4, 1.0);
     var factor = split_sum(lut, cube_sampler, f0, n_dot_v, roughness);
 #ifdef IRIDESCENCE
-    let film = iridescence_at(material, pixel);
+    let film = film_at(material, pixel, sheen_film_texel(pixel));
     if (film.x > 0.0) {
         let film_f = iridescence_fresnel(ct.z, albedo, ct.y, n_dot_v, film.y, film.z);
         factor = mix(factor, film_f * split_sum(lut, cube_sampler, vec3<f32>(1.0), n_dot_v, roughness), film.x);
@@ -210,7 +225,7 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
     // The sheen lies over the base (and under a coat): the base's light is
     // dimmed by its albedo scaling and the sheen adds its own, lit by the
     // environment's irradiance at the normal (exact for a uniform one).
-    let sheen = sheen_of(material);
+    let sheen = sheen_of(material, pixel);
     if (params.mode == 0u && any(sheen.rgb > vec3<f32>(0.0))) {
         let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
         let around = textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb;
@@ -261,7 +276,7 @@ fn diffuse_at(pixel: vec2<u32>) -> vec4<f32> {
     var light = textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb;
 #ifdef SHEEN
     // Under a sheen the base receives what the sheen does not reflect.
-    let sheen = sheen_of(channel_to_id(textureLoad(color, pixel, 0).a));
+    let sheen = sheen_of(channel_to_id(textureLoad(color, pixel, 0).a), pixel);
     if (any(sheen.rgb > vec3<f32>(0.0))) {
         light *= sheen_scaling(sheen.rgb, clamp(dot(n, v), 1e-4, 1.0), sheen.a);
     }

@@ -35,6 +35,12 @@
 //                 materials, the anisotropy direction (the tangent frame
 //                 turned by the rotation and the anisotropy map, view
 //                 space) and strength into the anisotropy target.
+// SHEEN_FILM:     (with EXTENSION_MAPS) some material of the world has a
+//                 sheen or iridescence map: for every glTF material, the
+//                 sheen colour and roughness and the film's factor and
+//                 thickness its factors and maps make into the sheen and
+//                 film target (shaders/lib/sheen_film.wgsl; lighting reads
+//                 the factors of materials it marks unwritten).
 // VERTEX_EXTRAS:  some mesh of this layer has vertex colours (COLOR_0, they
 //                 multiply albedo) or a second UV set (TEXCOORD_1, for maps
 //                 whose texCoord is 1): read the arena's extra stream.
@@ -58,6 +64,11 @@
 #ifdef ANISOTROPY
 #import spreadlight::material::FEATURE_ANISOTROPY
 #import spreadlight::material_maps::mapped_anisotropy
+#endif
+#ifdef SHEEN_FILM
+#import spreadlight::material::{FEATURE_SHEEN, FEATURE_IRIDESCENCE}
+#import spreadlight::material_maps::{mapped_sheen, mapped_film}
+#import spreadlight::sheen_film::pack_sheen_film
 #endif
 #endif
 #ifdef CUSTOM_SURFACE
@@ -109,6 +120,10 @@ struct Layer {
 #ifdef ANISOTROPY
 // View-space anisotropy direction (rgb) and strength (a).
 @group(0) @binding(16) var out_anisotropy: texture_storage_2d<rgba16float, write>;
+#endif
+#ifdef SHEEN_FILM
+// Sheen colour and roughness, film factor and thickness (lib/sheen_film.wgsl).
+@group(0) @binding(17) var out_sheen_film: texture_storage_2d<rgba32uint, write>;
 #endif
 #endif
 // Group 1 is the material world (MATERIAL_MAPS), group 3 its map arrays.
@@ -242,6 +257,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #ifdef ANISOTROPY
             textureStore(out_anisotropy, pixel, vec4<f32>(0.0));
+#endif
+#ifdef SHEEN_FILM
+            textureStore(out_sheen_film, pixel, vec4<u32>(0u));
 #endif
 #ifdef VELOCITY_OUT
             textureStore(out_velocity_uv, pixel, vec4<f32>(0.0));
@@ -397,6 +415,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         textureStore(out_anisotropy, pixel, texel);
     }
+#endif
+#ifdef SHEEN_FILM
+    // Every pixel of this layer: a glTF material's sheen and film (its
+    // factors where it has no map), others marked unwritten.
+    var sheen_film = vec4<u32>(0u);
+    if (has_feature(material, FEATURE_SURFACE_MAPS)) {
+        let sheen = mapped_sheen(material, coords, feature_param(material, FEATURE_SHEEN, 0u, vec4<f32>(0.0)));
+        let film = mapped_film(material, coords, feature_param(material, FEATURE_IRIDESCENCE, 0u, vec4<f32>(0.0)).x);
+        sheen_film = pack_sheen_film(sheen, film);
+    }
+    textureStore(out_sheen_film, pixel, sheen_film);
 #endif
 #else
 #ifdef SURFACE_OUT

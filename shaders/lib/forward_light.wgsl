@@ -10,7 +10,9 @@
 // the coat's lobe on the coat's own normal (lit transparency's coated layers);
 // ANISOTROPY stretches the specular lobe along the fragment's anisotropy
 // direction (lib/anisotropy.wgsl; lit transparency's anisotropic layers);
-// SHEEN the sheen's Charlie lobe (lib/sheen.wgsl) and its dimming of the base.
+// SHEEN the sheen's Charlie lobe (lib/sheen.wgsl) and its dimming of the base,
+// and sums what a thin film's diffuse takes (`filmed_light`: lit
+// transparency compiles its extension lobes under one switch).
 #define_import_path spreadlight::forward_light
 #import spreadlight::brdf::{BrdfSurface, LightSums, add_light, cook_torrance_weights, half_vector_cosines}
 #import spreadlight::lights::{range_window, inverse_square}
@@ -23,6 +25,9 @@
 #endif
 #ifdef CLEARCOAT
 #import spreadlight::brdf::{cook_torrance_weights_scaled, schlick_weight, DIELECTRIC_F0}
+#endif
+#ifdef SHEEN
+#import spreadlight::brdf::Brdf
 #endif
 #ifdef ANISOTROPY
 #import spreadlight::anisotropy::{AnisotropicSurface, anisotropic_weights_scaled}
@@ -51,6 +56,14 @@ struct Light {
 var<private> coat_factor: f32;
 var<private> coat_surface: BrdfSurface;
 var<private> coat_sum: vec3<f32>;
+#endif
+#ifdef SHEEN
+// The shaded fragment's thin film, set by the importer before its lights:
+// its factor (0: none), its Fresnel at N.V (lib/iridescence.wgsl), and the
+// summed radiance N.L its diffuse takes, as CookTorrance keeps them.
+var<private> film_factor: f32;
+var<private> film_fresnel: vec3<f32>;
+var<private> film_lit: vec3<f32>;
 #endif
 #ifdef SHEEN
 // The shaded fragment's sheen, set by the importer before its lights: its
@@ -147,11 +160,33 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
     }
 #endif
 #ifdef SHEEN
+    if (film_factor > 0.0 && n_dot_l > 0.0) {
+        film_lit += radiance * (min(n_dot_l, 1.0) * attenuation);
+    }
+#endif
+#ifdef SHEEN
     if (any(sheen_color > vec3<f32>(0.0))) {
         sheen_sum += radiance * sheen_weight(s.n_dot_v, n_dot_l, cosines.x, sheen_roughness, attenuation);
     }
 #endif
 }
+
+#ifdef SHEEN
+// The film over a lit fragment of surface `s` (the private film state,
+// summed over its lights), as CookTorrance's IRIDESCENCE: F = mix(Schlick's,
+// the film's, factor), the film's F one per fragment, so its specular is F
+// times the lobes' sum (D V N.L in `sums`), its diffuse (1 - F) times the
+// Lambert term's. `lit` is what light_sums_brdf made of `sums`.
+fn filmed_light(s: BrdfSurface, sums: LightSums, lit: Brdf) -> Brdf {
+    if (!(film_factor > 0.0)) {
+        return lit;
+    }
+    var out = lit;
+    out.specular = mix(lit.specular, film_fresnel * sums.specular, film_factor);
+    out.diffuse = mix(lit.diffuse, (vec3<f32>(1.0) - film_fresnel) * s.diffuse * film_lit, film_factor);
+    return out;
+}
+#endif
 
 #ifdef CLEARCOAT
 // The coat over a lit fragment (the private coat state, summed over its

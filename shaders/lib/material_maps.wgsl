@@ -5,10 +5,12 @@
 // dispatch. Sampled with explicit screen derivatives (trilinear +
 // anisotropic in compute, where there are no implicit ones).
 //
-// Slots 5..11 are the material extensions' maps (clearcoat factor in red,
+// Slots 5..15 are the material extensions' maps (clearcoat factor in red,
 // clearcoat roughness in green, specular in alpha, specular colour in rgb,
 // thickness in green, the clearcoat's tangent-space normal in rgb, the
-// anisotropy direction in rg and its strength in b); a
+// anisotropy direction in rg and its strength in b, the sheen colour in rgb,
+// the sheen roughness in alpha, the iridescence factor in red, the film's
+// thickness in green); a
 // material packs them, and the specular factors and the clearcoat normal's
 // scale after them (MAP_SPECULAR_FACTORS, MAP_CLEARCOAT_NORMAL_SCALE), only
 // when it has one, and a pass reads them only under EXTENSION_MAPS (the
@@ -28,10 +30,14 @@ const MAP_SPECULAR_COLOR: u32 = 8u;
 const MAP_THICKNESS: u32 = 9u;
 const MAP_CLEARCOAT_NORMAL: u32 = 10u;
 const MAP_ANISOTROPY: u32 = 11u;
+const MAP_SHEEN_COLOR: u32 = 12u;
+const MAP_SHEEN_ROUGHNESS: u32 = 13u;
+const MAP_IRIDESCENCE: u32 = 14u;
+const MAP_IRIDESCENCE_THICKNESS: u32 = 15u;
 // The parameter after the last slot's: (ior's f0 x specular colour factor, specular factor).
-const MAP_SPECULAR_FACTORS: u32 = 25u;
+const MAP_SPECULAR_FACTORS: u32 = 33u;
 // The one after it: (the clearcoat normal map's scale, 0, 0, 0).
-const MAP_CLEARCOAT_NORMAL_SCALE: u32 = 26u;
+const MAP_CLEARCOAT_NORMAL_SCALE: u32 = 34u;
 
 @group(3) @binding(0) var maps_0: texture_2d_array<f32>;
 @group(3) @binding(1) var maps_1: texture_2d_array<f32>;
@@ -178,6 +184,37 @@ fn mapped_anisotropy(material: u32, coords: MapCoords, params: vec2<f32>) -> vec
     let c = cos(params.y);
     let s = sin(params.y);
     return vec3<f32>(c * direction.x - s * direction.y, s * direction.x + c * direction.y, strength);
+}
+
+// The sheen's colour (rgb, 0..1) and roughness (a, 0..1) from the Sheen
+// feature's (colour, roughness) `params`, times sheenColorTexture's rgb and
+// sheenRoughnessTexture's alpha where the material has them
+// (KHR_materials_sheen; the CPU twin is the test's factor x texel).
+fn mapped_sheen(material: u32, coords: MapCoords, params: vec4<f32>) -> vec4<f32> {
+    var sheen = params;
+    if (has_map(material, MAP_SHEEN_COLOR)) {
+        sheen = vec4<f32>(sheen.rgb * sample_map(material, MAP_SHEEN_COLOR, coords, vec4<f32>(1.0)).rgb, sheen.a);
+    }
+    if (has_map(material, MAP_SHEEN_ROUGHNESS)) {
+        sheen.a *= sample_map(material, MAP_SHEEN_ROUGHNESS, coords, vec4<f32>(1.0)).a;
+    }
+    return clamp(sheen, vec4<f32>(0.0), vec4<f32>(1.0));
+}
+
+// The film's factor (0..1) and where its thickness lies from the minimum
+// (0) to the maximum (1), from the Iridescence feature's factor,
+// iridescenceTexture's red and iridescenceThicknessTexture's green
+// (KHR_materials_iridescence: without a thickness map the film is its
+// maximum thick).
+fn mapped_film(material: u32, coords: MapCoords, factor: f32) -> vec2<f32> {
+    var film = vec2<f32>(factor, 1.0);
+    if (has_map(material, MAP_IRIDESCENCE)) {
+        film.x *= sample_map(material, MAP_IRIDESCENCE, coords, vec4<f32>(1.0)).r;
+    }
+    if (has_map(material, MAP_IRIDESCENCE_THICKNESS)) {
+        film.y = sample_map(material, MAP_IRIDESCENCE_THICKNESS, coords, vec4<f32>(1.0)).g;
+    }
+    return clamp(film, vec2<f32>(0.0), vec2<f32>(1.0));
 }
 
 // The coat's tangent-space normal (-1..1, x and y times the map's scale)

@@ -38,6 +38,9 @@
 // read once for all sets, and two sums it adds its terms to, for
 // CompositeLight to read as one pair; OUT_DIFFUSE, OUT_SPECULAR and
 // OUT_SSS then say which of the set's own targets are still written.
+// SHEEN and IRIDESCENCE read a glTF material's mapped sheen and film from
+// the G-buffer's sheen and film target (lib/sheen_film.wgsl; binding 33, a
+// 1x1 "unwritten" stand-in where the G-buffer has none: the factors).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -80,8 +83,16 @@ var<private> coat_sum: vec3<f32>;
 var<private> aniso: AnisotropicSurface;
 #endif
 #ifdef IRIDESCENCE
-#import spreadlight::material::iridescence_at
+#import spreadlight::sheen_film::film_at
 #import spreadlight::iridescence::iridescence_fresnel
+#ifndef SHEEN
+// The G-buffer's sheen and film target (lib/sheen_film.wgsl), or a 1x1
+// stand-in of one unwritten texel where it has none (factors only).
+@group(0) @binding(33) var sheen_film_target: texture_2d<u32>;
+fn sheen_film_texel(pixel: vec2<u32>) -> vec4<u32> {
+    return textureLoad(sheen_film_target, min(pixel, textureDimensions(sheen_film_target) - vec2<u32>(1u)), 0);
+}
+#endif
 // The pixel's film: its factor (0: none), its Fresnel at N.V, and the
 // summed radiance N.L its diffuse takes.
 var<private> film_factor: f32;
@@ -89,8 +100,14 @@ var<private> film_fresnel: vec3<f32>;
 var<private> film_lit: vec3<f32>;
 #endif
 #ifdef SHEEN
-#import spreadlight::material::{feature_param, FEATURE_SHEEN}
+#import spreadlight::sheen_film::sheen_at
 #import spreadlight::sheen::{sheen_weight, sheen_scaling}
+// The G-buffer's sheen and film target (lib/sheen_film.wgsl), or a 1x1
+// stand-in of one unwritten texel where it has none (factors only).
+@group(0) @binding(33) var sheen_film_target: texture_2d<u32>;
+fn sheen_film_texel(pixel: vec2<u32>) -> vec4<u32> {
+    return textureLoad(sheen_film_target, min(pixel, textureDimensions(sheen_film_target) - vec2<u32>(1u)), 0);
+}
 // The pixel's sheen colour (black: none), its roughness and the summed
 // lobe (white, times each light's radiance).
 var<private> sheen_color: vec3<f32>;
@@ -776,7 +793,8 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     film_fresnel = vec3<f32>(0.0);
     film_lit = vec3<f32>(0.0);
     if (covered) {
-        let film = iridescence_at(material, pixel);
+        // Its maps' factor and thickness where the G-buffer resolved them.
+        let film = film_at(material, pixel, sheen_film_texel(pixel));
         film_factor = film.x;
         if (film_factor > 0.0) {
             film_fresnel = iridescence_fresnel(rm.z, albedo, rm.y, surface.n_dot_v, film.y, film.z);
@@ -788,9 +806,10 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     sheen_roughness = 0.0;
     sheen_sum = vec3<f32>(0.0);
     if (covered) {
-        let sheen = feature_param(material, FEATURE_SHEEN, 0u, vec4<f32>(0.0));
-        sheen_color = clamp(sheen.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
-        sheen_roughness = clamp(sheen.a, 0.0, 1.0);
+        // Its maps' colour and roughness where the G-buffer resolved them.
+        let sheen = sheen_at(material, sheen_film_texel(pixel));
+        sheen_color = sheen.rgb;
+        sheen_roughness = sheen.a;
     }
 #endif
 #ifdef CLUSTERED

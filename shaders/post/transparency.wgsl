@@ -64,7 +64,15 @@
 // fragment no coated layer wrote reads a cleared record: no coat.
 // SHEEN (forward light passes of a layer whose world has a Sheen material):
 // the sheen's Charlie lobe and the base's dimming under it, as CookTorrance
-// draws them (lib/forward_light.wgsl's sheened_specular), under the coat.
+// draws them (lib/forward_light.wgsl's sheened_specular), under the coat;
+// with EXTENSION_MAPS the sheen's colour and roughness maps scale it. The
+// same switch (a layer whose world has an Iridescence material) draws a
+// thin film: its Fresnel at N.V (lib/iridescence.wgsl) mixed into the
+// specular and diffuse weights by the factor, as CookTorrance's IRIDESCENCE
+// draws it (lib/forward_light.wgsl's filmed_light); with EXTENSION_MAPS the
+// iridescence and thickness maps set the factor and thickness per
+// fragment. A soap bubble is a BLEND film. (One switch for both lobes,
+// branched per material: a switch of its own would double the light passes.)
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -168,6 +176,19 @@
 // Sheen material), summed by the light function as the coat is.
 #import spreadlight::material::FEATURE_SHEEN
 #import spreadlight::forward_light::{sheen_color, sheen_roughness, sheen_sum, sheened_specular}
+#ifdef EXTENSION_MAPS
+#import spreadlight::material_maps::mapped_sheen
+#endif
+// The shaded fragment's film (a light pass of a layer whose world has an
+// Iridescence material), whose diffuse light the light function sums.
+#import spreadlight::material::iridescence_at
+#import spreadlight::iridescence::iridescence_fresnel
+#import spreadlight::forward_light::{film_factor, film_fresnel, film_lit, filmed_light}
+#ifdef EXTENSION_MAPS
+#import spreadlight::material::FEATURE_IRIDESCENCE
+#import spreadlight::material_maps::mapped_film
+#import spreadlight::sheen_film::film_of
+#endif
 #endif
 
 struct Params {
@@ -823,12 +844,35 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     coat_sum = vec3<f32>(0.0);
 #endif
 #ifdef SHEEN
-    let sheen = clamp(sanitize(feature_param(in.material, FEATURE_SHEEN, 0u, vec4<f32>(0.0))), vec4<f32>(0.0), vec4<f32>(1.0));
+    var sheen = clamp(sanitize(feature_param(in.material, FEATURE_SHEEN, 0u, vec4<f32>(0.0))), vec4<f32>(0.0), vec4<f32>(1.0));
+#ifdef EXTENSION_MAPS
+    sheen = mapped_sheen(in.material, coords, sheen);
+#endif
     sheen_color = sheen.rgb;
     sheen_roughness = sheen.a;
     sheen_sum = vec3<f32>(0.0);
 #endif
-    let lit = light_sums_brdf(s, light_sums(in.clip.xy, in.world, s, in.distance));
+#ifdef SHEEN
+    // The fragment's film (its maps' factor and thickness with
+    // EXTENSION_MAPS), its Fresnel made once for all its lights.
+#ifdef EXTENSION_MAPS
+    let film_params = feature_param(in.material, FEATURE_IRIDESCENCE, 0u, vec4<f32>(0.0));
+    let film = film_of(in.material, mapped_film(in.material, coords, film_params.x));
+#else
+    let film = iridescence_at(in.material, vec2<u32>(0u));
+#endif
+    film_factor = film.x;
+    film_fresnel = vec3<f32>(0.0);
+    film_lit = vec3<f32>(0.0);
+    if (film_factor > 0.0) {
+        film_fresnel = iridescence_fresnel(reflectance, albedo, metallic, s.n_dot_v, film.y, film.z);
+    }
+#endif
+    let sums = light_sums(in.clip.xy, in.world, s, in.distance);
+    var lit = light_sums_brdf(s, sums);
+#ifdef SHEEN
+    lit = filmed_light(s, sums, lit);
+#endif
     var specular = lit.specular;
     var lit_diffuse = lit.diffuse;
     if (params.surface.z > 0.5) {

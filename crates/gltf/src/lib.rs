@@ -194,8 +194,8 @@ pub struct MaterialData {
     pub iridescence_thickness_maximum: f32,
     /// `KHR_materials_iridescence`: iridescenceTexture (red scales the
     /// factor) and iridescenceThicknessTexture (green picks the thickness
-    /// between minimum and maximum). Read and checked, not yet sampled (a
-    /// warning says so): the factor and the maximum are drawn.
+    /// between minimum and maximum), sampled per pixel by the G-buffer
+    /// resolve into its sheen and film target.
     pub iridescence_texture: Option<TextureData>,
     pub iridescence_thickness_texture: Option<TextureData>,
     /// `KHR_materials_sheen`: sheenColorFactor (linear; black without it:
@@ -203,6 +203,11 @@ pub struct MaterialData {
     pub sheen_color: [f32; 3],
     /// `KHR_materials_sheen`: sheenRoughnessFactor (0..1).
     pub sheen_roughness: f32,
+    /// `KHR_materials_sheen`: sheenColorTexture (rgb, sRGB, scales the
+    /// colour) and sheenRoughnessTexture (alpha scales the roughness),
+    /// sampled per pixel by the G-buffer resolve into its sheen and film target.
+    pub sheen_color_texture: Option<TextureData>,
+    pub sheen_roughness_texture: Option<TextureData>,
     /// `KHR_materials_transmission`: transmissionFactor (0 without it). Until
     /// a pass refracts, a transmissive material is drawn BLEND with its base
     /// colour alpha times 1 - transmission (the importer has applied that to
@@ -292,6 +297,8 @@ impl Default for MaterialData {
             iridescence_thickness_texture: None,
             sheen_color: [0.0; 3],
             sheen_roughness: 0.0,
+            sheen_color_texture: None,
+            sheen_roughness_texture: None,
             transmission: 0.0,
             transmission_texture: None,
             thickness: 0.0,

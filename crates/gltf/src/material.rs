@@ -295,7 +295,9 @@ impl MaterialData {
             );
         }
         let sheen = self.sheen_color.map(finite);
-        if sheen.iter().any(|&c| c > 0.0) {
+        let sheened = sheen.iter().any(|&c| c > 0.0);
+        let filmed = finite(self.iridescence) > 0.0;
+        if sheened {
             let [r, g, b] = sheen;
             let _ = material.set(Feature::Sheen, &[[r, g, b, finite(self.sheen_roughness)]]);
         }
@@ -371,6 +373,18 @@ impl MaterialData {
             (MapSlot::SpecularColor, &self.specular_color_texture, true),
             (MapSlot::Thickness, &self.thickness_texture, transmits),
             (MapSlot::Anisotropy, &self.anisotropy_texture, anisotropic),
+            (MapSlot::SheenColor, &self.sheen_color_texture, sheened),
+            (
+                MapSlot::SheenRoughness,
+                &self.sheen_roughness_texture,
+                sheened,
+            ),
+            (MapSlot::Iridescence, &self.iridescence_texture, filmed),
+            (
+                MapSlot::IridescenceThickness,
+                &self.iridescence_thickness_texture,
+                filmed,
+            ),
         ] {
             maps.set_map(
                 slot,

@@ -12,10 +12,9 @@
 //! - `KHR_materials_anisotropy`: strength and rotation (the Anisotropy
 //!   feature), its map a surface map (the G-buffer's anisotropy target).
 //! - `KHR_materials_iridescence`: factor, film ior, thickness minimum and
-//!   maximum (the Iridescence feature); its two maps are read and warned
-//!   as not sampled (the factor and the maximum thickness are drawn).
+//!   maximum (the Iridescence feature) and its two maps.
 //! - `KHR_materials_sheen`: colour and roughness factors (the Sheen
-//!   feature); its two maps are not sampled yet (warned: the factors alone
+//!   feature) and its two maps (the colour map sRGB
 //!   are drawn).
 //! - `KHR_materials_transmission`: drawn BLEND with opacity
 //!   alpha x (1 - transmission), what shows through refracted by lit
@@ -131,13 +130,10 @@ impl Importer<'_> {
             data.sheen_color = self.color(&who, name, ext, "sheenColorFactor", [0.0; 3], 1.0);
             data.sheen_roughness =
                 self.factor(&who, name, ext, "sheenRoughnessFactor", 0.0, 0.0, 1.0);
-            for key in ["sheenColorTexture", "sheenRoughnessTexture"] {
-                if ext.get(key).is_some() {
-                    self.warn(format!(
-                        "{who}: {name} {key} is not sampled yet: the factor alone is drawn"
-                    ));
-                }
-            }
+            data.sheen_color_texture =
+                self.extension_texture(document, &who, name, ext, "sheenColorTexture", true)?;
+            data.sheen_roughness_texture =
+                self.extension_texture(document, &who, name, ext, "sheenRoughnessTexture", false)?;
         }
         // Spec-gloss replaces the base colour map; transmission's map is
         // baked into whichever base colour map results.
@@ -276,19 +272,6 @@ impl Importer<'_> {
             "iridescenceThicknessTexture",
             false,
         )?;
-        if data.iridescence > 0.0 {
-            if data.iridescence_texture.is_some() {
-                self.warn(format!(
-                    "{who}: {name} iridescenceTexture is not sampled: the factor {} is drawn over the whole surface",
-                    data.iridescence
-                ));
-            }
-            if data.iridescence_thickness_texture.is_some() {
-                self.warn(format!(
-                    "{who}: {name} iridescenceThicknessTexture is not sampled: the film is drawn {hi} nm thick (the maximum) everywhere"
-                ));
-            }
-        }
         Ok(())
     }
 

@@ -11,6 +11,7 @@ use super::builder::{Doc, png};
 use super::spec_gloss::{MetalRough, SpecGloss, convert, round_trip};
 use super::*;
 use spreadlight_render::material::Feature;
+use spreadlight_render::material::maps::MapSlot;
 use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 pub(super) fn value(text: &str) -> Value {
@@ -302,7 +303,8 @@ fn iridescence_bad_values_are_warned_by_material_and_its_maps_as_not_sampled() {
         );
     }
     assert!(m.iridescence_texture.is_some() && m.iridescence_thickness_texture.is_some());
-    // With a film, the maps are said not to be sampled.
+    // With a film, the maps are sampled: no warning, and the material's
+    // iridescence slots carry them.
     let mut doc = cube_with(named("Oil"), "{}");
     let image = doc.png_image(&png(&image::RgbaImage::from_pixel(
         1,
@@ -327,18 +329,20 @@ fn iridescence_bad_values_are_warned_by_material_and_its_maps_as_not_sampled() {
         params(&m, Feature::Iridescence),
         Some([1.0, 1.3, 100.0, 400.0])
     );
-    for what in [
-        "iridescenceFactor is 2",
-        "iridescenceTexture is not sampled",
-        "iridescenceThicknessTexture is not sampled",
-    ] {
-        assert!(
-            warnings
-                .iter()
-                .any(|w| w.contains("material 0 `Oil`") && w.contains(what)),
-            "{what}: {warnings:?}"
-        );
-    }
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("material 0 `Oil`") && w.contains("iridescenceFactor is 2")),
+        "{warnings:?}"
+    );
+    assert!(
+        !warnings.iter().any(|w| w.contains("not sampled")),
+        "{warnings:?}"
+    );
+    let material = m.to_material();
+    let maps = material.maps().expect("surface maps");
+    assert!(maps.map(MapSlot::Iridescence).is_some());
+    assert!(maps.map(MapSlot::IridescenceThickness).is_some());
 }
 
 #[test]
@@ -648,10 +652,27 @@ fn the_sheen_asset_is_what_the_generator_makes_and_loads_clean() {
     // Its baseline without the sheens, for `spreadlight bench` (docs/gltf.md).
     let off_path = path.with_file_name("gltf-sheen-off.gltf");
     let off = super::models::sheen_row_without_sheen();
+    // Its mapped twin, the cost of the sheen and film target.
+    let maps_path = path.with_file_name("gltf-sheen-maps.gltf");
+    let mapped = super::models::sheen_row_with_maps();
     if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
         std::fs::write(&path, &made).unwrap();
         std::fs::write(&off_path, &off).unwrap();
+        std::fs::write(&maps_path, &mapped).unwrap();
     }
+    let committed = std::fs::read(&maps_path).expect("patches/assets/gltf-sheen-maps.gltf");
+    assert!(
+        committed == mapped,
+        "regenerate it with SPREADLIGHT_BLESS=1"
+    );
+    let scene = load_gltf_slice(&mapped, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let with_maps: Vec<bool> = scene
+        .materials
+        .iter()
+        .map(|m| m.sheen_color_texture.is_some() && m.sheen_roughness_texture.is_some())
+        .collect();
+    assert_eq!(with_maps, [false, true, true, true]);
     let committed = std::fs::read(&path).expect("patches/assets/gltf-sheen.gltf");
     assert!(committed == made, "regenerate it with SPREADLIGHT_BLESS=1");
     let committed = std::fs::read(&off_path).expect("patches/assets/gltf-sheen-off.gltf");

@@ -521,16 +521,25 @@ pub fn material_extensions_row() -> Vec<u8> {
 /// and white at 0.9 (the factors only), for docs/gltf.md's picture and the
 /// view test's reference image (`patches/assets/gltf-sheen.gltf`).
 pub fn sheen_row() -> Vec<u8> {
-    velvet_row(true)
+    velvet_row(true, false)
+}
+
+/// [`sheen_row`] whose sheens are mapped
+/// (`patches/assets/gltf-sheen-maps.gltf`): one texture, bands of white at
+/// full roughness and of a rose colour at half roughness, as both the
+/// sheenColorTexture (rgb) and the sheenRoughnessTexture (alpha): the cost
+/// of the G-buffer's sheen and film target (`spreadlight bench`, docs/gltf.md).
+pub fn sheen_row_with_maps() -> Vec<u8> {
+    velvet_row(true, true)
 }
 
 /// [`sheen_row`] without its sheens (`patches/assets/gltf-sheen-off.gltf`):
 /// the baseline of the sheen's cost (`spreadlight bench`, docs/gltf.md).
 pub fn sheen_row_without_sheen() -> Vec<u8> {
-    velvet_row(false)
+    velvet_row(false, false)
 }
 
-fn velvet_row(with_sheen: bool) -> Vec<u8> {
+fn velvet_row(with_sheen: bool, maps: bool) -> Vec<u8> {
     let mut doc = Doc::new();
     let sphere = doc.mesh_data(
         "Sphere",
@@ -547,6 +556,23 @@ fn velvet_row(with_sheen: bool) -> Vec<u8> {
             .extensions_used
             .push("KHR_materials_sheen".to_owned());
     }
+    // Eight bands across u: white at alpha 1, rose at alpha 1/2.
+    let map = maps.then(|| {
+        let bands = image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, _| {
+            image::Rgba(if (x / 8) % 2 == 0 {
+                [255, 255, 255, 255]
+            } else {
+                [255, 140, 170, 128]
+            })
+        });
+        let image = doc.png_image(&png(&bands));
+        doc.texture(image).value()
+    });
+    let textures = map.map_or(String::new(), |t| {
+        format!(
+            r#", "sheenColorTexture": {{"index": {t}}}, "sheenRoughnessTexture": {{"index": {t}}}"#
+        )
+    });
     // A material's name and its sheen (colour, roughness), if any.
     type Sheen = Option<([f32; 3], f32)>;
     let sheens: [(&str, Sheen); 4] = [
@@ -561,7 +587,7 @@ fn velvet_row(with_sheen: bool) -> Vec<u8> {
             .filter(|_| with_sheen)
             .map(|([r, g, b], roughness)| {
                 json::deserialize::from_str::<json::Value>(&format!(
-                    r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [{r}, {g}, {b}], "sheenRoughnessFactor": {roughness}}}}}"#
+                    r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [{r}, {g}, {b}], "sheenRoughnessFactor": {roughness}{textures}}}}}"#
                 ))
                 .ok()
                 .and_then(|v| v.as_object().cloned())

@@ -13,12 +13,15 @@
 //! a quad's checkered base colour texture.
 //! `KHR_materials_anisotropy`'s factors and map through the G-buffer's
 //! anisotropy target into CookTorrance, against the CPU anisotropic lobe
-//! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`
-//! (factor-only: its maps are not sampled yet): the film's Fresnel at every
-//! inner pixel against `reference::iridescence`. And image-based anisotropy:
-//! Reflection mirrors an anisotropic quad's view about the extension's bent
-//! normal (`reference::anisotropy::anisotropic_bent_normal`), so an
-//! environment's bright stripe shows where the CPU reference says.
+//! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`:
+//! the film's Fresnel at every inner pixel against `reference::iridescence`,
+//! its factor and thickness maps (through the G-buffer's sheen and film
+//! target, and through lit transparency's forward light pass), and
+//! `KHR_materials_sheen`'s colour and roughness maps likewise. And
+//! image-based anisotropy: Reflection mirrors an anisotropic quad's view
+//! about the extension's bent normal
+//! (`reference::anisotropy::anisotropic_bent_normal`), so an environment's
+//! bright stripe shows where the CPU reference says.
 
 // The post tests' scene helpers, shared with the renderer's tests.
 use crate::post_common;
@@ -1698,4 +1701,437 @@ fn anisotropic_reflection_follows_the_bent_normal() {
         band[0] > 40 && band[1] > 40,
         "the band on both halves: {band:?}"
     );
+}
+
+/// How many compiled resolves write the sheen and film target.
+fn sheen_film_resolves(renderer: &Renderer) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| k.features.contains("SHEEN_FILM"))
+        .count()
+}
+
+/// KHR_materials_sheen's maps through the G-buffer's sheen and film
+/// target into CookTorrance (SHEEN): a sheenColorTexture whose left half is
+/// white and right half magenta (no green) and a sheenRoughnessTexture whose
+/// top half has alpha 1 and bottom half 128/255; every inner pixel of each
+/// quadrant against `spreadlight_reference::sheen` with the factors times
+/// that quadrant's texels. A file whose sheen has factors alone writes no
+/// such target; no warning says a map is not sampled.
+#[test]
+fn the_sheen_maps_colour_each_half_as_the_reference_says() {
+    let renderer = test_renderer();
+    let (_, factors_s) = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
+    assert_eq!(
+        sheen_film_resolves(&renderer),
+        0,
+        "factors alone: no sheen and film target"
+    );
+    let written = |renderer: &Renderer| {
+        renderer
+            .last_report()
+            .counters
+            .get("G-buffer sheen and film targets written")
+            .copied()
+    };
+    assert_eq!(written(&renderer), None, "stats show no target");
+    let ext = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7],
+        "sheenRoughnessFactor": 0.6, "sheenColorTexture": {"index": {0}},
+        "sheenRoughnessTexture": {"index": {1}}}}"#;
+    let colour = halves([255, 255, 255, 255], [255, 0, 255, 255], false);
+    let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, &[colour, roughness]),
+    );
+    assert!(
+        sheen_film_resolves(&renderer) >= 1,
+        "the resolve wrote the target"
+    );
+    assert_eq!(written(&renderer), Some(1), "stats show the target");
+    let mut checked = [0; 4];
+    for (i, p, column, row) in inner_pixels() {
+        let green = [SHEEN_COLOR[1], 0.0][column];
+        let colour = [SHEEN_COLOR[0], green, SHEEN_COLOR[2]];
+        let roughness = SHEEN_ROUGHNESS * [1.0, 128.0 / 255.0][row];
+        let (want_d, want_s) = sheened_reference(p, (colour, roughness));
+        for c in 0..3 {
+            assert!(
+                close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                "pixel {i} (column {column}, row {row}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
+    // The map changes what the factors alone draw: the right half's sheen
+    // has no green (less green specular), the left half's is the factors'.
+    let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
+    let (left, right) = (at(SIZE.0 / 4, SIZE.1 / 4), at(3 * SIZE.0 / 4, SIZE.1 / 4));
+    assert!(s.pixels[right][1] < factors_s.pixels[right][1]);
+    assert!(close(s.pixels[left][1], factors_s.pixels[left][1]));
+}
+
+/// KHR_materials_iridescence's maps through the sheen and film target into
+/// CookTorrance (IRIDESCENCE): an iridescenceTexture whose left half is red
+/// 1 and right half 128/255 (the factor) and an iridescenceThicknessTexture
+/// whose top half is green 0 (the minimum, 250 nm) and bottom half 1 (the
+/// maximum, 650 nm); every inner pixel of each quadrant against
+/// `cook_torrance_iridescent` with that film. A film of a minimum above its
+/// maximum and an extreme thickness stay finite under maps.
+#[test]
+fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
+    let renderer = test_renderer();
+    let ext = r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1.0,
+        "iridescenceThicknessMinimum": 250, "iridescenceThicknessMaximum": 650,
+        "iridescenceTexture": {"index": {0}}, "iridescenceThicknessTexture": {"index": {1}}}}"#;
+    let factor = halves([255, 0, 0, 255], [128, 0, 0, 255], false);
+    let thickness = halves([0, 0, 0, 255], [0, 255, 0, 255], true);
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, &[factor.clone(), thickness.clone()]),
+    );
+    assert!(
+        sheen_film_resolves(&renderer) >= 1,
+        "the resolve wrote the target"
+    );
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 4];
+    for (i, p, column, row) in inner_pixels() {
+        let film = Film::new([1.0, 128.0 / 255.0][column], 1.3, [250.0, 650.0][row]);
+        let view = (eye - p).normalize();
+        let want = cook_torrance_iridescent(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            0.04,
+            film,
+            true,
+        );
+        let (want_d, want_s) = (want.diffuse * radiance, want.specular * radiance);
+        for c in 0..3 {
+            assert!(
+                close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                "pixel {i} (column {column}, row {row}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
+    // The two thicknesses colour the highlight differently.
+    let at = |px: u32, py: u32| (py * SIZE.0 + px) as usize;
+    let (top, bottom) = (at(SIZE.0 / 4, SIZE.1 / 4), at(SIZE.0 / 4, 3 * SIZE.1 / 4));
+    let hue = |p: [f32; 4]| p[1] / p[0].max(1e-6);
+    assert!((hue(s.pixels[top]) - hue(s.pixels[bottom])).abs() > 0.05);
+    // Hard films under maps: a minimum above the maximum (warned, kept),
+    // a thickness of 1e30 nm; every pixel finite (`render_and_read` below).
+    for hard in [
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMinimum": 900,
+            "iridescenceThicknessMaximum": 0, "iridescenceTexture": {"index": {0}},
+            "iridescenceThicknessTexture": {"index": {1}}}}"#,
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 1e30,
+            "iridescenceThicknessTexture": {"index": {1}}, "iridescenceTexture": {"index": {0}}}}"#,
+    ] {
+        let file = model(
+            opaque_material(),
+            hard,
+            &[factor.clone(), thickness.clone()],
+        );
+        let scene = load_gltf_slice(&file, None).expect("loads");
+        let (world, layer) = world_and_layer(
+            &renderer,
+            &scene,
+            Mat4::IDENTITY,
+            scene.materials[0].base_color,
+        );
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            vec![layer],
+            VIEW.camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g,
+            LightBuffer::suns(&renderer, &[SUN]),
+            LightLoop::Clustered,
+            true,
+            Surfaces::Materials(world),
+        );
+        let (report, images) =
+            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+                .expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        assert!(
+            images.iter().all(|i| i.all_finite()),
+            "{hard}: no NaN or infinity"
+        );
+    }
+}
+
+/// A BLEND quad with a thin film through lit transparency's forward light
+/// pass (compiled under SHEEN, the switch of its extension lobes; a node
+/// with an iridescent layer shades forward under Auto), its factor and thickness from maps in four quadrants as in
+/// `the_iridescence_maps_set_the_film_per_half_as_the_reference_says`:
+/// every inner pixel's colour against `cook_torrance_iridescent`, as the
+/// opaque surface's. A soap bubble is such a layer.
+#[test]
+fn lit_transparency_draws_the_film() {
+    let renderer = test_renderer();
+    let mut material = opaque_material();
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let ext = r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1.0,
+        "iridescenceThicknessMinimum": 250, "iridescenceThicknessMaximum": 650,
+        "iridescenceTexture": {"index": {0}}, "iridescenceThicknessTexture": {"index": {1}}}}"#;
+    let factor = halves([255, 0, 0, 255], [128, 0, 0, 255], false);
+    let thickness = halves([0, 0, 0, 255], [0, 255, 0, 255], true);
+    let scene = load_gltf_slice(&model(material, ext, &[factor, thickness]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(
+        &renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
+    let lights = vec![TransparentLights {
+        lights: LightBuffer::suns(&renderer, &[SUN]),
+        shadows: None,
+    }];
+    let pass = Transparency::lit(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights,
+            ..Default::default()
+        },
+    );
+    assert!(
+        !pass.shades_in_compute(),
+        "an iridescent layer shades forward"
+    );
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("SHEEN")),
+        "the light pass compiled the film (under SHEEN)"
+    );
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 4];
+    for (i, p, column, row) in inner_pixels() {
+        let film = Film::new([1.0, 128.0 / 255.0][column], 1.3, [250.0, 650.0][row]);
+        let view = (eye - p).normalize();
+        let brdf = cook_torrance_iridescent(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            0.04,
+            film,
+            true,
+        );
+        let want = (brdf.diffuse + brdf.specular) * radiance;
+        for c in 0..3 {
+            // Half-float accumulation: about three decimal digits.
+            assert!(
+                (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                "pixel {i} (column {column}, row {row}): {:?}, the reference says {want}",
+                pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
+}
+
+/// Reflection's sheen term (SHEEN) under a uniform environment of `model`'s
+/// quad, its material made reflective: the specular and diffuse outputs.
+fn reflected(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
+    use spreadlight_gltf::MaterialData;
+    use spreadlight_render::environment::{
+        Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, Reflection,
+        ReflectionMode,
+    };
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures};
+    use spreadlight_render::material::{Feature, MaterialWorld};
+    let scene = load_gltf_slice(model, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &scene.meshes[0])
+        .expect("upload");
+    let materials = std::iter::once(MaterialData::default())
+        .chain(scene.materials.iter().cloned())
+        .map(|m| {
+            m.to_material()
+                .with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
+                .expect("valid")
+        })
+        .collect();
+    let world = MaterialWorld::new(renderer, materials);
+    let instance = InstanceInput {
+        transform: Mat4::IDENTITY,
+        previous_transform: Mat4::IDENTITY,
+        color: scene.materials[0].base_color,
+        material_id: 1,
+        object_id: 1,
+    };
+    let layer = Layer::new(
+        Some(1),
+        vec![DrawBatch {
+            mesh,
+            instances: vec![instance],
+        }],
+        LayerFeatures::default(),
+        None,
+    )
+    .expect("layer")
+    .with_materials(Some(world.clone()));
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![Arc::new(layer)],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[0.5, 0.5, 0.5, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 16,
+        },
+    );
+    let r = Reflection::new(
+        renderer,
+        None,
+        g,
+        world,
+        environment,
+        ReflectionMode::Reflect,
+    );
+    let (report, images) =
+        render_and_read(renderer, r.as_ref(), SIZE, &[&r.specular, &r.diffuse]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let [s, d]: [ImageF32; 2] = images.try_into().unwrap_or_else(|_| unreachable!());
+    assert!(s.all_finite() && d.all_finite(), "no NaN or infinity");
+    (s, d)
+}
+
+/// Reflection reads the sheen and film target too: the quad of
+/// `the_sheen_maps_colour_each_half_as_the_reference_says`, reflective
+/// under a uniform environment, gives each quadrant's pixels what a quad
+/// whose sheen factors are that quadrant's colour and roughness gives
+/// (the sheen's environment light and the base's dimming, specular and
+/// diffuse; unorm16 in the target), and the quadrants differ.
+#[test]
+fn reflection_lights_the_sheen_maps_per_pixel() {
+    let renderer = test_renderer();
+    let ext = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7],
+        "sheenRoughnessFactor": 0.6, "sheenColorTexture": {"index": {0}},
+        "sheenRoughnessTexture": {"index": {1}}}}"#;
+    let colour = halves([255, 255, 255, 255], [255, 0, 255, 255], false);
+    let roughness = halves([0, 0, 0, 255], [0, 0, 0, 128], true);
+    let (s, d) = reflected(
+        &renderer,
+        &model(opaque_material(), ext, &[colour, roughness]),
+    );
+    assert!(
+        sheen_film_resolves(&renderer) >= 1,
+        "the resolve wrote the target"
+    );
+    let mut quadrants = Vec::new();
+    for row in 0..2 {
+        for column in 0..2 {
+            let green = [SHEEN_COLOR[1], 0.0][column];
+            let roughness = SHEEN_ROUGHNESS * [1.0, 128.0 / 255.0][row];
+            let factors = format!(
+                r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [0.9, {green}, 0.7],
+                    "sheenRoughnessFactor": {roughness}}}}}"#
+            );
+            quadrants.push(reflected(
+                &renderer,
+                &model(opaque_material(), &factors, &[]),
+            ));
+        }
+    }
+    let mut checked = [0; 4];
+    for (i, _, column, row) in inner_pixels() {
+        let (want_s, want_d) = &quadrants[column + 2 * row];
+        for c in 0..3 {
+            assert!(
+                close(s.pixels[i][c], want_s.pixels[i][c])
+                    && close(d.pixels[i][c], want_d.pixels[i][c]),
+                "pixel {i} (column {column}, row {row}): specular {:?} diffuse {:?}, its factors give {:?} {:?}",
+                s.pixels[i],
+                d.pixels[i],
+                want_s.pixels[i],
+                want_d.pixels[i]
+            );
+        }
+        checked[column + 2 * row] += 1;
+    }
+    assert!(
+        checked.iter().all(|&n| n > 150),
+        "{checked:?} pixels per quadrant"
+    );
+    // The map matters: its magenta half reflects less green than the
+    // factors' colour alone would there.
+    let right = (SIZE.1 / 4 * SIZE.0 + 3 * SIZE.0 / 4) as usize;
+    assert!(s.pixels[right][1] < quadrants[0].0.pixels[right][1]);
 }

@@ -248,6 +248,14 @@ impl Reflection {
             b = b
                 .texture_opt("surface_target", io.surface)
                 .extend(self.materials.bindings(io.material_textures));
+            // SHEEN and IRIDESCENCE read the sheen and film target, or a
+            // stand-in of factors only where the G-buffer has none.
+            if key.sheen || key.iridescence {
+                b = match io.sheen_film {
+                    Some(t) => b.texture("sheen_film_target", t),
+                    None => b.view("sheen_film_target", self.materials.sheen_film_stand_in()),
+                };
+            }
         }
         match outputs {
             Outputs::Both => self.dispatch(cx, "both", "reflection", b),
@@ -264,6 +272,8 @@ struct ReflectionIo {
     normals: Tex,
     depth: Tex,
     surface: Option<Tex>,
+    /// The G-buffer's sheen and film target, where it has one.
+    sheen_film: Option<Tex>,
     diffuse: Tex,
     /// Not in the diffuse pass of a world that does not reflect.
     specular: Option<Tex>,
@@ -307,6 +317,7 @@ impl Recipe for Reflection {
                 normals,
                 depth,
                 surface,
+                sheen_film: None,
                 diffuse: pass.write(&self.diffuse, hdr),
                 specular: None,
                 material_textures: None,
@@ -335,6 +346,14 @@ impl Recipe for Reflection {
             normals: pass.read(&g.normals),
             depth: pass.read(&g.depth),
             surface: pass.read_opt(g.surface.as_deref()),
+            sheen_film: {
+                let key = self.key();
+                if key.sheen || key.iridescence {
+                    pass.read_opt(g.sheen_film.as_deref())
+                } else {
+                    None
+                }
+            },
             material_textures: self.materials.read_textures(
                 &mut pass,
                 self.textured(),

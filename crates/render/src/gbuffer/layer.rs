@@ -308,12 +308,16 @@ impl Layer {
         // The anisotropy target, where this layer's maps world has an
         // Anisotropy material (never under a shader node material).
         let anisotropy = self.map_world().is_some_and(|w| w.has_anisotropy());
+        // The sheen and film target, where this layer's maps world has a
+        // sheen or iridescence map.
+        let sheen_film = self.map_world().is_some_and(|w| w.has_sheen_film_maps());
         key.written = Written::Surface(SurfaceResolve {
             color_map: self.color_map.is_some(),
             vertex_extras: self.vertex_extras(),
             velocity: false,
             surface,
             anisotropy,
+            sheen_film,
         });
         key
     }

@@ -180,7 +180,18 @@ pub struct GBufferTargets {
     /// (lighting reads it only where the material has the feature). Only
     /// when some layer's maps world has such a material.
     pub anisotropy: Option<String>,
+    /// Per pixel of glTF materials: the sheen colour and roughness and the
+    /// thin film's factor and thickness as `KHR_materials_sheen`'s and
+    /// `KHR_materials_iridescence`'s maps make them ([`SHEEN_FILM_FORMAT`],
+    /// see shaders/lib/sheen_film.wgsl), which CookTorrance and Reflection
+    /// read under SHEEN and IRIDESCENCE. Only when some layer's maps world
+    /// has such a map (factors alone need none).
+    pub sheen_film: Option<String>,
 }
+
+/// The sheen and film target's format: four pairs of unorm16 values and a
+/// written flag (shaders/lib/sheen_film.wgsl).
+pub const SHEEN_FILM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 impl GBufferTargets {
     /// What material lookups read at a pixel: the UV.
@@ -420,6 +431,10 @@ impl GBuffer {
                     .iter()
                     .any(|l| l.map_world().is_some_and(|w| w.has_anisotropy()))
                     .then(|| format!("{prefix}/anisotropy")),
+                sheen_film: layers
+                    .iter()
+                    .any(|l| l.map_world().is_some_and(|w| w.has_sheen_film_maps()))
+                    .then(|| format!("{prefix}/sheen_film")),
             },
             layers,
             draws,

@@ -86,6 +86,9 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     if let Some(name) = &t.anisotropy {
         pass.output("out_anisotropy", name, target(TARGET_FORMAT));
     }
+    if let Some(name) = &t.sheen_film {
+        pass.output("out_sheen_film", name, target(super::SHEEN_FILM_FORMAT));
+    }
     let surface = pass.bindings().clone();
     let surface_layers = layers.clone();
     pass.run_bound(move |cx, b| resolve(g, renderer, cx, Targets::Surface, &surface_layers, b));
@@ -95,13 +98,17 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     pass.run_bound(move |cx, b| resolve(g, renderer, cx, Targets::Motion, &[], b));
     // Both read the visibility: one dispatch per run when the frame reads both,
     // where the device binds the five storage textures that takes with a
-    // surface target (WebGPU's minimum is four), six with an anisotropy target.
+    // surface target (WebGPU's minimum is four), one more with an anisotropy
+    // target, one more with a sheen and film target.
     let storage = renderer
         .gpu
         .device
         .limits()
         .max_storage_textures_per_shader_stage;
-    let needed = 4 + u32::from(t.surface.is_some()) + u32::from(t.anisotropy.is_some());
+    let needed = 4
+        + u32::from(t.surface.is_some())
+        + u32::from(t.anisotropy.is_some())
+        + u32::from(t.sheen_film.is_some());
     let fused = needed <= 4 || storage >= needed;
     // The resolves' pipelines, made on threads on a first frame, for the
     // passes the plan runs: the surface's alone, the motion's, or both in one.

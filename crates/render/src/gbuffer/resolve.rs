@@ -66,6 +66,11 @@ pub(super) fn resolve(
     declared: Bindings<'_>,
 ) -> Result<(), RenderError> {
     let motion = targets == Targets::Motion;
+    // Shown by `stats`: the sheen and film target exists only for a world
+    // with a sheen or iridescence map (GBufferTargets::sheen_film).
+    if !motion && g.targets.sheen_film.is_some() {
+        cx.count("G-buffer sheen and film targets written", 1);
+    }
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
     let extras = renderer.meshes.extras();

@@ -59,6 +59,12 @@ pub struct SurfaceResolve {
     /// the layer's Anisotropy materials per pixel. Only with surface maps
     /// (`SurfaceOut::MaterialMaps` or `ExtendedMaps`), whose world has one.
     pub anisotropy: bool,
+    /// The sheen and film target (SHEEN_FILM): the sheen colour and
+    /// roughness and the film's factor and thickness per pixel of the
+    /// layer's glTF materials. Only with extension maps
+    /// (`SurfaceOut::ExtendedMaps`: sheen and iridescence maps are
+    /// extension maps), whose world has such a map.
+    pub sheen_film: bool,
 }
 
 /// The surface target is written (SURFACE_OUT), from the material world's
@@ -150,6 +156,7 @@ impl Permutation for ResolveKey {
         "VERTEX_EXTRAS",
         "VELOCITY_OUT",
         "ANISOTROPY",
+        "SHEEN_FILM",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -177,15 +184,17 @@ impl Permutation for ResolveKey {
                     Some(SurfaceOut::Custom) => f.extend(["SURFACE_OUT", "CUSTOM_SURFACE"]),
                 }
                 f.extend(s.anisotropy.then_some("ANISOTROPY"));
+                f.extend(s.sheen_film.then_some("SHEEN_FILM"));
             }
         }
         f.into_iter()
     }
 
-    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 56
-    /// surface resolves): the 1,368 feature sets the string rules allow
+    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 72
+    /// surface resolves): the 1,752 feature sets the string rules allow
     /// (792 before EXTENSION_MAPS, which only surface maps take; 984 before
-    /// ANISOTROPY, which only surface maps take too).
+    /// ANISOTROPY, which only surface maps take too; 1,368 before
+    /// SHEEN_FILM, which only extension maps take).
     fn all() -> Vec<Self> {
         let surfaces = [
             None,
@@ -203,17 +212,21 @@ impl Permutation for ResolveKey {
                             surface,
                             Some(SurfaceOut::MaterialMaps | SurfaceOut::ExtendedMaps)
                         );
+                        let extended = surface == Some(SurfaceOut::ExtendedMaps);
                         for anisotropy in [false, true] {
-                            if anisotropy && !maps {
-                                continue;
+                            for sheen_film in [false, true] {
+                                if anisotropy && !maps || sheen_film && !extended {
+                                    continue;
+                                }
+                                written.push(Written::Surface(SurfaceResolve {
+                                    color_map,
+                                    vertex_extras,
+                                    velocity,
+                                    surface,
+                                    anisotropy,
+                                    sheen_film,
+                                }));
                             }
-                            written.push(Written::Surface(SurfaceResolve {
-                                color_map,
-                                vertex_extras,
-                                velocity,
-                                surface,
-                                anisotropy,
-                            }));
                         }
                     }
                 }

@@ -341,6 +341,12 @@ impl CookTorrance {
             .is_some_and(|w| w.union_flags() & (1 << FEATURE_SHEEN) != 0)
     }
 
+    /// Whether the shade pass reads the sheen and film target (SHEEN or
+    /// IRIDESCENCE under the built-in BRDF).
+    fn sheen_or_film(&self) -> bool {
+        self.custom.is_none() && (self.sheen() || self.iridescence())
+    }
+
     /// The walk this recipe's shade pass does.
     pub fn walk(&self) -> Walk {
         self.walk
@@ -468,6 +474,14 @@ impl CookTorrance {
             .texture_opt("out_sss", io.sss)
             .texture_opt("surface_target", io.surface)
             .texture_opt("anisotropy_target", io.anisotropy);
+        // SHEEN and IRIDESCENCE read the sheen and film target, or a stand-in
+        // of factors only where the G-buffer has none.
+        if let Some(world) = self.materials.as_ref().filter(|_| self.sheen_or_film()) {
+            b = match io.sheen_film {
+                Some(t) => b.texture("sheen_film_target", t),
+                None => b.view("sheen_film_target", world.sheen_film_stand_in()),
+            };
+        }
         b = super::bind_light_buffer(
             b,
             cx,
@@ -561,6 +575,9 @@ pub(super) struct ShadeIo {
     surface: Option<Tex>,
     /// The G-buffer's anisotropy target, where it has one.
     anisotropy: Option<Tex>,
+    /// The G-buffer's sheen and film target, where it has one and the
+    /// shade reads it.
+    sheen_film: Option<Tex>,
     /// Textured spot lights' images.
     spot_textures: Option<Tex>,
     material_textures: Option<MaterialTextures>,
@@ -669,6 +686,11 @@ impl CookTorrance {
                 .materials
                 .as_ref()
                 .and_then(|_| pass.read_opt(g.anisotropy.as_deref())),
+            sheen_film: self
+                .materials
+                .as_ref()
+                .filter(|_| self.sheen_or_film())
+                .and_then(|_| pass.read_opt(g.sheen_film.as_deref())),
             spot_textures: self.lights.textures().map(|t| pass.read(&t.name)),
             material_textures: self
                 .materials

@@ -1,12 +1,13 @@
 //! Surface maps: the textures of a glTF metallic-roughness material (base
 //! colour, metallic-roughness, normal, occlusion, emissive) and of its
 //! extensions (clearcoat, clearcoat roughness, specular, specular colour,
-//! thickness, clearcoat normal, anisotropy), each with its UV set, `KHR_texture_transform` and sampler,
+//! thickness, clearcoat normal, anisotropy, sheen colour and roughness,
+//! iridescence and its thickness), each with its UV set, `KHR_texture_transform` and sampler,
 //! plus the alpha mode and double-sidedness. A [`Material`](super::Material)
 //! carries them as the built-in feature
 //! [`FEATURE_SURFACE_MAPS`](super::FEATURE_SURFACE_MAPS): its flag bit and,
 //! when packed, 11 parameter vec4s that `shaders/lib/material_maps.wgsl`
-//! reads in the G-buffer resolve, 27 when it has an extension's map (so a
+//! reads in the G-buffer resolve, 35 when it has an extension's map (so a
 //! material without one packs, and shades, as before). The factors stay
 //! where every other material keeps them: roughness, metallic and
 //! reflectance in CookTorrance, emissive colour and strength in Emission,
@@ -45,10 +46,19 @@ pub enum MapSlot {
     /// `KHR_materials_anisotropy`'s anisotropyTexture: the direction in the
     /// tangent frame in red and green (-1..1 as 0..1), the strength in blue.
     Anisotropy = 11,
+    /// `KHR_materials_sheen`'s sheenColorTexture: the sheen colour in rgb (sRGB).
+    SheenColor = 12,
+    /// sheenRoughnessTexture: the sheen roughness in alpha.
+    SheenRoughness = 13,
+    /// `KHR_materials_iridescence`'s iridescenceTexture: the factor in red.
+    Iridescence = 14,
+    /// iridescenceThicknessTexture: green mixes the film's thickness from
+    /// its minimum (0) to its maximum (1).
+    IridescenceThickness = 15,
 }
 
 impl MapSlot {
-    pub const ALL: [MapSlot; 12] = [
+    pub const ALL: [MapSlot; 16] = [
         MapSlot::BaseColor,
         MapSlot::MetallicRoughness,
         MapSlot::Normal,
@@ -61,12 +71,16 @@ impl MapSlot {
         MapSlot::Thickness,
         MapSlot::ClearcoatNormal,
         MapSlot::Anisotropy,
+        MapSlot::SheenColor,
+        MapSlot::SheenRoughness,
+        MapSlot::Iridescence,
+        MapSlot::IridescenceThickness,
     ];
 
     /// The slots of the material extensions: a material with a map in one
     /// of them packs the long layout, and the passes that read them compile
     /// their code only for a world that has one (EXTENSION_MAPS).
-    pub const EXTENSIONS: [MapSlot; 7] = [
+    pub const EXTENSIONS: [MapSlot; 11] = [
         MapSlot::Clearcoat,
         MapSlot::ClearcoatRoughness,
         MapSlot::Specular,
@@ -74,13 +88,26 @@ impl MapSlot {
         MapSlot::Thickness,
         MapSlot::ClearcoatNormal,
         MapSlot::Anisotropy,
+        MapSlot::SheenColor,
+        MapSlot::SheenRoughness,
+        MapSlot::Iridescence,
+        MapSlot::IridescenceThickness,
+    ];
+
+    /// The slots whose per-pixel values the G-buffer resolve writes into
+    /// its sheen and film target (`sheen_film`, SHEEN_FILM) for lighting.
+    pub const SHEEN_FILM: [MapSlot; 4] = [
+        MapSlot::SheenColor,
+        MapSlot::SheenRoughness,
+        MapSlot::Iridescence,
+        MapSlot::IridescenceThickness,
     ];
 
     /// Colour maps are stored sRGB-encoded and sampled through an sRGB format.
     pub fn srgb(self) -> bool {
         matches!(
             self,
-            MapSlot::BaseColor | MapSlot::Emissive | MapSlot::SpecularColor
+            MapSlot::BaseColor | MapSlot::Emissive | MapSlot::SpecularColor | MapSlot::SheenColor
         )
     }
 }
@@ -198,7 +225,7 @@ pub enum AlphaMode {
 /// Everything of a glTF material that is not a factor of another feature.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceMaps {
-    pub maps: [Option<MapRef>; 12],
+    pub maps: [Option<MapRef>; 16],
     /// Scales the normal map's x and y.
     pub normal_scale: f32,
     /// Scales the clearcoat normal map's x and y (its normalTextureInfo's scale).
@@ -252,6 +279,12 @@ impl SurfaceMaps {
 
     pub fn set_map(&mut self, slot: MapSlot, map: Option<MapRef>) {
         self.maps[slot as usize] = map;
+    }
+
+    /// Whether a sheen or iridescence slot has a map: the G-buffer then
+    /// gets its sheen and film target.
+    pub fn has_sheen_film_maps(&self) -> bool {
+        MapSlot::SHEEN_FILM.iter().any(|s| self.map(*s).is_some())
     }
 
     /// Whether a material extension's slot has a map.
@@ -392,8 +425,18 @@ mod tests {
         // the coat normal's scale (finite: an infinite one reads 1).
         assert_eq!(packed[SPECULAR_FACTORS_PARAM], [0.04, 0.04, 0.0, 1.0]);
         assert_eq!(packed[EXTENDED_PARAM_COUNT - 1], [1.0, 0.0, 0.0, 0.0]);
-        // Only the colour slot of the extensions is sRGB.
+        // Only the colour slots of the extensions (specular's, sheen's) are sRGB.
         let srgb: Vec<_> = MapSlot::EXTENSIONS.iter().map(|s| s.srgb()).collect();
-        assert_eq!(srgb, [false, false, false, true, false, false, false]);
+        assert_eq!(
+            srgb,
+            [
+                false, false, false, true, false, false, false, true, false, false, false
+            ]
+        );
+        assert_eq!(
+            SPECULAR_FACTORS_PARAM, 33,
+            "MAP_SPECULAR_FACTORS in material_maps.wgsl"
+        );
+        assert_eq!(EXTENDED_PARAM_COUNT, 35);
     }
 }

@@ -356,6 +356,9 @@ impl PackedMaterials {
 struct Dummies {
     array: wgpu::TextureView,
     uv: wgpu::TextureView,
+    /// A 1x1 sheen and film target of one unwritten texel
+    /// (`spreadlight::sheen_film`): lighting reads the factors through it.
+    sheen_film: wgpu::TextureView,
 }
 
 /// A material world on the GPU: what a `MaterialBuffer` node outputs,
@@ -376,6 +379,9 @@ pub struct MaterialWorld {
     /// specular, thickness): the passes that read them compile their code
     /// (EXTENSION_MAPS) only then.
     extension_maps: bool,
+    /// Some material has a sheen or iridescence map: the G-buffer's sheen
+    /// and film target holds what they make per pixel.
+    sheen_film_maps: bool,
     dummies: Dummies,
     meta: wgpu::Buffer,
     offsets: wgpu::Buffer,
@@ -485,6 +491,10 @@ impl MaterialWorld {
             .iter()
             .filter_map(|m| m.maps.as_ref())
             .any(|m| m.has_extension_maps());
+        let sheen_film_maps = materials
+            .iter()
+            .filter_map(|m| m.maps.as_ref())
+            .any(|m| m.has_sheen_film_maps());
         Arc::new(MaterialWorld {
             materials,
             union_flags,
@@ -493,6 +503,7 @@ impl MaterialWorld {
             textured_flags,
             maps,
             extension_maps,
+            sheen_film_maps,
             dummies: Dummies::new(&renderer.gpu),
             meta,
             offsets,
@@ -588,6 +599,22 @@ impl MaterialWorld {
     /// have no tangent frame the resolve reads, and shade isotropic.
     pub fn has_anisotropy(&self) -> bool {
         self.maps.is_some() && self.has(FEATURE_ANISOTROPY)
+    }
+
+    /// Whether some material with surface maps has a sheen or iridescence
+    /// map (`KHR_materials_sheen`'s, `KHR_materials_iridescence`'s): the
+    /// G-buffer then gets its sheen and film target, which the resolve
+    /// fills (`SHEEN_FILM`) and CookTorrance's and Reflection's `SHEEN` and
+    /// `IRIDESCENCE` read. Factors alone need no target.
+    pub fn has_sheen_film_maps(&self) -> bool {
+        self.maps.is_some() && self.sheen_film_maps
+    }
+
+    /// What lighting binds as `sheen_film_target` where the G-buffer has no
+    /// sheen and film target: one texel that says "not written", so every
+    /// pixel reads its material's factors.
+    pub(crate) fn sheen_film_stand_in(&self) -> wgpu::TextureView {
+        self.dummies.sheen_film.clone()
     }
 
     /// The surface maps' textures and samplers, when some material has maps.
@@ -694,7 +721,29 @@ impl Dummies {
             ..Default::default()
         });
         let uv = crate::texture::GpuTexture::from_rgba8(gpu, 1, 1, &[0; 4], false, "no UV target");
-        Dummies { array, uv: uv.view }
+        // wgpu zeroes a new texture: w = 0 reads "not written".
+        let sheen_film = gpu
+            .device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("no sheen and film target"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: crate::gbuffer::SHEEN_FILM_FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        Dummies {
+            array,
+            uv: uv.view,
+            sheen_film,
+        }
     }
 }
 

@@ -100,8 +100,8 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 
 /// All the permutations there are: the composite's 6,720, the light loop's
 /// 13,130 (ANISOTROPY, IRIDESCENCE and SHEEN each double its shadings with a
-/// material world: 2,730 before them), the resolve's 1,368 (384 of them
-/// writing the anisotropy target), lit transparency's (with refraction's blurs,
+/// material world: 2,730 before them), the resolve's 1,752 (384 of them
+/// writing the anisotropy target, 384 the sheen and film target), lit transparency's (with refraction's blurs,
 /// compute shading's records and kernels, the clear coat's 1,652 (324 of
 /// them its reflection of the environment in the base passes), the
 /// anisotropic lobe's and the sheen's forward light passes over surface maps),
@@ -118,7 +118,7 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 fn the_permutation_count_is_unchanged() {
     assert_eq!(ENTRY_SHADERS.len(), 46);
     let count = all_permutations().len();
-    assert_eq!(count, 27_892);
+    assert_eq!(count, 28_276);
     let doc = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../docs/architecture.md"
@@ -362,12 +362,13 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
         Rule::Requires("EXTENSION_MAPS", "MATERIAL_MAPS"),
         Rule::Requires("ANISOTROPY", "MATERIAL_MAPS"),
+        Rule::Requires("SHEEN_FILM", "EXTENSION_MAPS"),
         Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
         Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
         Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"]),
     ];
     let (sets, n) = keyed("gbuffer/resolve.wgsl");
-    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 1368));
+    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 1752));
     let cook_torrance: &[&str] = crate::lighting::cook_torrance_key::CookTorranceKey::FEATURES;
     let cook_torrance_rules = [
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),

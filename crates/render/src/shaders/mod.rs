@@ -49,6 +49,7 @@ pub const LIBRARIES: &[ShaderFile] = &[
     library!("lib/tonemap.wgsl"),
     library!("lib/surface_target.wgsl"),
     library!("lib/material.wgsl"),
+    library!("lib/sheen_film.wgsl"),
     library!("lib/materials.wgsl"),
     library!("lib/material_maps.wgsl"),
     library!("lib/matcap.wgsl"),

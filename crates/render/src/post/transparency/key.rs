@@ -32,8 +32,11 @@ pub struct TransparencyKey {
     /// forward, whatever its shading asks (the compute records carry no
     /// direction).
     pub anisotropy: bool,
-    /// The sheen (SHEEN): a forward light pass of a layer whose world has a
-    /// Sheen material adds the sheen's lobe and dims the base under it.
+    /// The sheen and the thin film (SHEEN): a forward light pass of a layer
+    /// whose world has a Sheen material adds the sheen's lobe and dims the
+    /// base under it; one whose world has an Iridescence material mixes the
+    /// film's Fresnel into the specular and diffuse weights (one switch for
+    /// both extension lobes, branched per material in the shader).
     /// Only light passes of a surface with a material world (a node with
     /// a sheen layer shades forward under Auto: the compute records keep
     /// no sheen).

@@ -67,7 +67,8 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
 use crate::material::{
-    FEATURE_CLEARCOAT, FEATURE_MATCAP, FEATURE_SHEEN, FEATURE_TRANSMISSION, MaterialWorld,
+    FEATURE_CLEARCOAT, FEATURE_IRIDESCENCE, FEATURE_MATCAP, FEATURE_SHEEN, FEATURE_TRANSMISSION,
+    MaterialWorld,
 };
 use crate::mesh_arena::pulled_pipeline;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -373,14 +374,14 @@ impl Transparency {
         let anisotropic = layers
             .iter()
             .any(|l| l.map_world().is_some_and(|w| w.has_anisotropy()));
-        // A layer with a sheen shades forward under Auto: the compute
-        // shading's fragment records keep no sheen (Compute and Tiled asked
-        // by name draw such a layer without its sheen).
+        // A layer with a sheen or a thin film shades forward under Auto:
+        // the compute shading's fragment records keep neither (Compute and
+        // Tiled asked by name draw such a layer without them).
         let sheened = layers.iter().any(|l| {
             l.map_world()
                 .or(l.materials.as_ref())
                 .or(materials.as_ref())
-                .is_some_and(|w| w.any_has(FEATURE_SHEEN))
+                .is_some_and(|w| w.any_has(FEATURE_SHEEN) || w.any_has(FEATURE_IRIDESCENCE))
         });
         let compute = !lights.is_empty()
             && !anisotropic
@@ -572,11 +573,14 @@ impl Transparency {
             && matches!(pass, TransparencyPass::Light(_))
     }
 
-    /// Whether a pass of a layer reading `world` compiles the sheen
-    /// ([`TransparencyKey::sheen`]): a light pass of a world with a Sheen material.
+    /// Whether a pass of a layer reading `world` compiles the sheen and the
+    /// thin film ([`TransparencyKey::sheen`]): a light pass of a world with
+    /// a Sheen or an Iridescence material. One switch for both (the shader
+    /// branches per material): a switch of its own for the film would add
+    /// 3,080 permutations for a few dozen lines of code.
     fn sheen(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
         matches!(pass, TransparencyPass::Light(_))
-            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN))
+            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN) || w.any_has(FEATURE_IRIDESCENCE))
     }
 
     /// Some layer of the node has a coat: the compute shading reads coat
