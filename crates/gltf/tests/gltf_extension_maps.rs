@@ -600,8 +600,8 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
 /// background), and where the probe is.
 fn probe_face(renderer: &Renderer, file: &[u8], light: PointLight) -> (ImageF32, Vec3) {
     use spreadlight_render::environment::{
-        Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeLights,
-        ProbeScene, ProbeSettings, Sky,
+        Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeLights, ProbeScene,
+        ProbeSettings, Sky,
     };
     use spreadlight_render::readback::read_texture_layer;
     use spreadlight_render::static_texture::StaticTexture;
@@ -677,7 +677,9 @@ fn probe_permutations(renderer: &Renderer, feature: &str) -> usize {
     renderer
         .shaders()
         .compiled_keys()
-        .filter(|k| k.path() == "environment/environment_probe.wgsl" && k.features.contains(feature))
+        .filter(|k| {
+            k.path() == "environment/environment_probe.wgsl" && k.features.contains(feature)
+        })
         .count()
 }
 
@@ -704,7 +706,11 @@ fn an_environment_probe_sees_the_sheen_and_the_iridescent_film() {
     };
     let (plain, position) = probe_face(&renderer, &model(opaque_material(), "{}", &[]), light);
     for lobe in ["CLEARCOAT", "SHEEN", "ANISOTROPY", "IRIDESCENCE"] {
-        assert_eq!(probe_permutations(&renderer, lobe), 0, "{lobe} for a plain file");
+        assert_eq!(
+            probe_permutations(&renderer, lobe),
+            0,
+            "{lobe} for a plain file"
+        );
     }
     let (sheened, _) = probe_face(&renderer, &model(opaque_material(), SHEEN_EXT, &[]), light);
     assert_eq!(probe_permutations(&renderer, "SHEEN"), 1);
@@ -742,7 +748,8 @@ fn an_environment_probe_sees_the_sheen_and_the_iridescent_film() {
                 * light.intensity
                 * spreadlight_reference::lights::point_attenuation(to.length(), light.range);
             let l = to.normalize();
-            let base = cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, 0.04, true);
+            let base =
+                cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, 0.04, true);
             let want_plain = (base.diffuse + base.specular) * radiance;
             let (scaling, lobe) = spreadlight_reference::sheen::sheen(
                 Vec3::Z,
@@ -1458,8 +1465,11 @@ fn lit_transparency_draws_the_anisotropic_lobe() {
     let map = halves([255, 128, 255, 255], [128, 255, 128, 255], false);
     let ext = r#"{"KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5,
         "anisotropyTexture": {"index": {0}}}}"#;
-    let scene = load_gltf_slice(&model(blended(metal_material(roughness)), ext, &[map]), None)
-        .expect("loads");
+    let scene = load_gltf_slice(
+        &model(blended(metal_material(roughness)), ext, &[map]),
+        None,
+    )
+    .expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let texels = [[255u8, 128, 255], [128, 255, 128]];
     let mut forward = None;
@@ -1572,8 +1582,20 @@ fn compute_transparency_draws_the_sheen_and_anisotropy_as_forward_does() {
     assert!(plain_keys.iter().all(|k| !k.sheen && !k.anisotropy));
     for (what, ext, maps, has_sheen, has_aniso) in [
         ("sheen", format!("{{{sheen}}}"), vec![], true, false),
-        ("anisotropy", format!("{{{aniso}}}"), vec![map.clone()], false, true),
-        ("both", format!("{{{sheen}, {aniso}}}"), vec![map.clone()], true, true),
+        (
+            "anisotropy",
+            format!("{{{aniso}}}"),
+            vec![map.clone()],
+            false,
+            true,
+        ),
+        (
+            "both",
+            format!("{{{sheen}, {aniso}}}"),
+            vec![map.clone()],
+            true,
+            true,
+        ),
     ] {
         let scene = load_gltf_slice(&model(material(), &ext, &maps), None).expect("loads");
         assert!(scene.warnings.is_empty(), "{what}: {:?}", scene.warnings);
@@ -1586,7 +1608,10 @@ fn compute_transparency_draws_the_sheen_and_anisotropy_as_forward_does() {
         );
         assert!(!forward_pass.shades_in_compute());
         let (changed, _) = largest_difference(&plain_out, &forward);
-        assert!(changed > 0.01, "{what}: the lobe changes the picture by {changed}");
+        assert!(
+            changed > 0.01,
+            "{what}: the lobe changes the picture by {changed}"
+        );
         // Auto is Compute on every adapter: such a layer no longer sends it forward.
         let auto = blend_node(
             &renderer,
@@ -1597,8 +1622,12 @@ fn compute_transparency_draws_the_sheen_and_anisotropy_as_forward_does() {
         );
         assert!(auto.shades_in_compute(), "{what}: Auto shades in compute");
         for shading in [TransparencyShading::Compute, TransparencyShading::Tiled] {
-            let (pass, out) = lit_blend_scene(&renderer, &scene, shading, LightLoop::Clustered, lights());
-            assert!(pass.shades_in_compute(), "{what}: {shading:?} shades in compute");
+            let (pass, out) =
+                lit_blend_scene(&renderer, &scene, shading, LightLoop::Clustered, lights());
+            assert!(
+                pass.shades_in_compute(),
+                "{what}: {shading:?} shades in compute"
+            );
             let keys = shade_keys(&pass);
             assert!(!keys.is_empty(), "{what}: {shading:?}");
             assert!(
@@ -1857,8 +1886,8 @@ fn the_sheen_factors_light_the_quad_as_the_reference_says() {
 #[test]
 fn lit_transparency_draws_the_sheen() {
     let renderer = test_renderer();
-    let scene = load_gltf_slice(&model(blended(opaque_material()), SHEEN_EXT, &[]), None)
-        .expect("loads");
+    let scene =
+        load_gltf_slice(&model(blended(opaque_material()), SHEEN_EXT, &[]), None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let (pass, out) = lit_blend_scene(
         &renderer,
@@ -1869,7 +1898,10 @@ fn lit_transparency_draws_the_sheen() {
     );
     assert!(pass.shades_in_compute(), "a sheen layer shades in compute");
     let pixels = out.pixels;
-    assert!(sheen_permutations(&renderer) >= 2, "the record's and the shade's");
+    assert!(
+        sheen_permutations(&renderer) >= 2,
+        "the record's and the shade's"
+    );
     let mut checked = 0;
     for (i, p, _, _) in inner_pixels() {
         let (want_d, want_s) = sheened_reference(p, (SHEEN_COLOR, SHEEN_ROUGHNESS));

@@ -7,8 +7,10 @@
 //! and, when the probe has one, the sun's shadow maps; then, in the same
 //! render pass, each point or spot light buffer draws the layers again
 //! (LIGHT_PASS, depth-tested equal, added), its lights shaded by the
-//! forward passes' shared light function. The prefilter then makes the
-//! cube's mips and roughness levels from it.
+//! forward passes' shared light function, with the material extensions'
+//! lobes (clear coat, sheen, anisotropy, iridescence) of a glTF layer whose
+//! world has them (`ProbeLobes`). The prefilter then makes the cube's
+//! mips and roughness levels from it.
 
 use std::hash::{Hash, Hasher};
 

@@ -21,6 +21,11 @@
 //! (16-bit normal, roughness, metallic, alpha and coverage) and the f32 sum
 //! (the tests hold it within 4e-3, the forward half-float sum's rounding).
 //!
+//! A node with a coated, sheen or anisotropic layer also keeps that lobe's
+//! inputs per slot, 8 bytes each, in a buffer of its own
+//! (`RecordedLobes`): made, cleared, written and read only then, so a
+//! frame without such a layer records what it did before.
+//!
 //! A pixel with more fragments than slots lights the missed ones as its
 //! recorded ones on average per weight: approximate there, never dark or
 //! NaN. The missed fragments are counted on the GPU ([`FragmentLists::missed`]
@@ -223,7 +228,9 @@ impl FragmentLists {
                 wgpu::BufferUsages::empty(),
             ),
             // Each a fifth of the records: within the limits whenever they are.
-            coat: lobes.coat.then(|| lobe_records("transparency coat records")),
+            coat: lobes
+                .coat
+                .then(|| lobe_records("transparency coat records")),
             sheen: lobes
                 .sheen
                 .then(|| lobe_records("transparency sheen records")),
