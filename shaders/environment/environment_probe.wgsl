@@ -25,8 +25,19 @@
 // viewer at the probe; roughness and metallic the material world's
 // CookTorrance feature and metallic-roughness map (MATERIAL_MAPS), else
 // `face.light_params.yz`. A mirror needs the colours and the rough shape of its
-// surroundings, at a fraction of a G-buffer's cost: no other material
-// feature, no alpha (a glTF MASK or BLEND surface is seen opaque).
+// surroundings, at a fraction of a G-buffer's cost: no alpha (a glTF MASK
+// or BLEND surface is seen opaque).
+// The material extensions' lobes (light passes over surface maps, each
+// compiled only when the layer's world has such a material, and branched
+// per material inside): CLEARCOAT the coat's lobe on its own normal and the
+// dimming under it (factor and roughness by its maps, the clearcoat normal
+// map), SHEEN the Charlie lobe and the base's dimming, ANISOTROPY the
+// stretched specular lobe (direction by the tangent, rotation and map), each
+// by lib/forward_light.wgsl's functions as lit transparency calls them;
+// IRIDESCENCE the film's Fresnel at N.V (lib/iridescence.wgsl) in place of
+// Schlick's, mixed by its factor, as CookTorrance mixes it (its diffuse
+// takes each light's N.L (1 - w) for N.L: within w = (1 - V.H)^5). The
+// probe's own sun and ambient light the diffuse alone, as before.
 // Vertices are pulled from the mesh arena by index (spreadlight::mesh_fetch),
 // as the shadow depth pass pulls them. Clamped below half-float overflow;
 // NaN is 0.
@@ -39,6 +50,26 @@
 #ifdef LIGHT_PASS
 #import spreadlight::brdf::{brdf_surface, no_light_sums, light_sums_brdf, surface_energy_compensation}
 #import spreadlight::forward_light::{lights, add_forward_light}
+#ifdef CLEARCOAT
+#import spreadlight::brdf::DIELECTRIC_F0
+#import spreadlight::material::FEATURE_CLEARCOAT
+#import spreadlight::material_maps::{mapped_clearcoat, clearcoat_normal_texel, MAP_CLEARCOAT_NORMAL}
+#import spreadlight::forward_light::{coat_factor, coat_surface, coat_sum, coated_specular}
+#endif
+#ifdef SHEEN
+#import spreadlight::material::FEATURE_SHEEN
+#import spreadlight::forward_light::{sheen_color, sheen_roughness, sheen_sum, sheened_specular}
+#endif
+#ifdef ANISOTROPY
+#import spreadlight::material::{has_feature, FEATURE_ANISOTROPY}
+#import spreadlight::material_maps::mapped_anisotropy
+#import spreadlight::anisotropy::anisotropic_surface
+#import spreadlight::forward_light::aniso
+#endif
+#ifdef IRIDESCENCE
+#import spreadlight::material::iridescence_at
+#import spreadlight::iridescence::iridescence_fresnel
+#endif
 #else
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::sun_shadow_anywhere
@@ -133,7 +164,8 @@ fn fs(in: Varyings) -> @location(0) vec4<f32> {
     if (dot(n, to_probe) < 0.0) {
         n = -n;
     }
-    // The surface's own normal, for the shadow's normal offset.
+    // The surface's own normal, for the shadow's normal offset (and what
+    // a clearcoat normal map and the anisotropy direction are taken on).
     let geometric = n;
     var albedo = max(in.albedo, vec3<f32>(0.0));
     // Level 0: a probe's faces are small and the prefilter blurs them anyway.
@@ -204,13 +236,74 @@ fn fs(in: Varyings) -> @location(0) vec4<f32> {
     // The buffer's lights as CookTorrance shades them, seen from the probe.
     let v = safe_normalize(to_probe, n);
     let s = brdf_surface(n, v, albedo, roughness, metallic, reflectance);
+#ifdef ANISOTROPY
+    // The direction in the geometric normal's tangent frame, turned by the
+    // rotation and the map (as lit transparency makes it); the lobe makes
+    // it orthogonal to the shaded normal. None: the isotropic lobe.
+    var aniso_direction = vec3<f32>(0.0);
+    var aniso_strength = 0.0;
+    if (has_feature(in.material, FEATURE_ANISOTROPY)) {
+        let a = mapped_anisotropy(in.material, coords, feature_param(in.material, FEATURE_ANISOTROPY, 0u, vec4<f32>(0.0)).xy);
+        let aniso_t = safe_normalize(in.tangent.xyz, vec3<f32>(1.0, 0.0, 0.0));
+        let aniso_b = cross(geometric, aniso_t) * select(-1.0, 1.0, in.tangent.w >= 0.0);
+        aniso_direction = aniso_t * a.x + aniso_b * a.y;
+        aniso_strength = a.z;
+    }
+    aniso = anisotropic_surface(s, aniso_direction, aniso_strength);
+#endif
+#ifdef CLEARCOAT
+    // The coat's (factor, roughness) by its maps, on its normal map's normal
+    // (bent from the geometric one), else the surface's.
+    let coat_params = feature_param(in.material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy;
+    let coat = mapped_clearcoat(in.material, coords, clamp(select(vec2<f32>(0.0), coat_params, coat_params == coat_params), vec2<f32>(0.0), vec2<f32>(1.0)));
+    var coat_n = n;
+    if (has_map(in.material, MAP_CLEARCOAT_NORMAL)) {
+        let texel = clearcoat_normal_texel(in.material, coords);
+        let ct_t = safe_normalize(in.tangent.xyz - geometric * dot(geometric, in.tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
+        let ct_b = cross(geometric, ct_t) * select(-1.0, 1.0, in.tangent.w >= 0.0);
+        coat_n = safe_normalize(ct_t * texel.x + ct_b * texel.y + geometric * texel.z, geometric);
+    }
+    coat_factor = coat.x;
+    coat_surface = brdf_surface(coat_n, v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
+    coat_sum = vec3<f32>(0.0);
+#endif
+#ifdef SHEEN
+    let sheen_params = feature_param(in.material, FEATURE_SHEEN, 0u, vec4<f32>(0.0));
+    let sheen = clamp(select(vec4<f32>(0.0), sheen_params, sheen_params == sheen_params), vec4<f32>(0.0), vec4<f32>(1.0));
+    sheen_color = sheen.rgb;
+    sheen_roughness = sheen.a;
+    sheen_sum = vec3<f32>(0.0);
+#endif
     var sums = no_light_sums();
     let count = min(arrayLength(&lights), face.light_params.x);
     for (var i = 0u; i < count; i++) {
         add_forward_light(i, in.world, s, 0.0, &sums);
     }
     let lit = light_sums_brdf(s, sums);
-    let c = min(max(lit.diffuse + lit.specular * surface_energy_compensation(s), vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
+    var specular = lit.specular;
+    var diffuse = lit.diffuse;
+#ifdef IRIDESCENCE
+    // The film's F at N.V for Schlick's, mixed by its factor (CookTorrance's
+    // IRIDESCENCE); the diffuse's 1 - F the film's too.
+    let film = iridescence_at(in.material, vec2<u32>(0u));
+    if (film.x > 0.0) {
+        let film_fresnel = iridescence_fresnel(reflectance, albedo, metallic, s.n_dot_v, film.y, film.z);
+        specular = mix(specular, film_fresnel * sums.specular, film.x);
+        diffuse = mix(diffuse, (vec3<f32>(1.0) - film_fresnel) * s.diffuse * sums.diffuse, film.x);
+    }
+#endif
+    specular *= surface_energy_compensation(s);
+#ifdef SHEEN
+    let sheened = sheened_specular(s, specular);
+    specular = sheened.xyz;
+    diffuse *= sheened.w;
+#endif
+#ifdef CLEARCOAT
+    let over = coated_specular(specular);
+    specular = over.xyz;
+    diffuse *= over.w;
+#endif
+    let c = min(max(diffuse + specular, vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
 #else
     let towards_sun = face.towards_sun.xyz;
     var sun = max(dot(n, towards_sun), 0.0);

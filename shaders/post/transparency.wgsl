@@ -46,12 +46,17 @@
 // EXTENSION_MAPS (with MATERIAL_MAPS; the world has a material extension's
 // map): the reflectance by the specular maps, the thickness by the
 // thickness map, the coat by the clearcoat maps.
-// ANISOTROPY (a light pass with MATERIAL_MAPS; the layer's world has an
-// Anisotropy material, KHR_materials_anisotropy): the specular lobe
-// stretched along the fragment's anisotropy direction (its tangent turned by
-// the rotation and the anisotropy map), as CookTorrance draws it on opaque
-// surfaces. Forward light passes only: a node with such a layer shades its
-// lights forward (Transparency::new).
+// ANISOTROPY (a light pass or a recording base pass with MATERIAL_MAPS;
+// the layer's world has an Anisotropy material, KHR_materials_anisotropy):
+// the specular lobe stretched along the fragment's anisotropy direction (its
+// tangent turned by the rotation and the anisotropy map), as CookTorrance
+// draws it on opaque surfaces (lib/anisotropy.wgsl through
+// lib/forward_light.wgsl). Compute shading: the recording base pass keeps
+// each fragment's direction and strength in `anisotropy_records` (8 bytes a
+// slot, bound and cleared only when some layer of the node is anisotropic)
+// and the shade passes of such a node compile ANISOTROPY and set the lobe
+// per fragment before its lights; a cleared record is strength 0, the
+// isotropic lobe.
 // CLEARCOAT (with MATERIALS; the layer's world has a Clearcoat material):
 // the light passes add the coat's lobe (GGX, f0 0.04, on the coat's own
 // normal: the clearcoat normal map's, else the surface's, normal mapped)
@@ -62,17 +67,23 @@
 // frames stay as they are; the shade passes of a node with a coated layer
 // compile CLEARCOAT, the base passes of its coated layers write it, and a
 // fragment no coated layer wrote reads a cleared record: no coat.
-// SHEEN (forward light passes of a layer whose world has a Sheen material):
-// the sheen's Charlie lobe and the base's dimming under it, as CookTorrance
-// draws them (lib/forward_light.wgsl's sheened_specular), under the coat;
-// with EXTENSION_MAPS the sheen's colour and roughness maps scale it. The
-// same switch (a layer whose world has an Iridescence material) draws a
-// thin film: its Fresnel at N.V (lib/iridescence.wgsl) mixed into the
-// specular and diffuse weights by the factor, as CookTorrance's IRIDESCENCE
-// draws it (lib/forward_light.wgsl's filmed_light); with EXTENSION_MAPS the
-// iridescence and thickness maps set the factor and thickness per
-// fragment. A soap bubble is a BLEND film. (One switch for both lobes,
-// branched per material: a switch of its own would double the light passes.)
+// SHEEN (light passes and recording base passes of a layer whose world has
+// a Sheen material): the sheen's Charlie lobe and the base's dimming under
+// it, as CookTorrance draws them (lib/forward_light.wgsl's sheened_specular),
+// under the coat; with EXTENSION_MAPS the sheen's colour and roughness maps
+// scale it. Compute shading keeps each fragment's sheen colour and
+// roughness in `sheen_records` (8 bytes a slot, bound and cleared only when
+// some layer of the node has a sheen; a cleared record is black: none), and
+// the shade passes of such a node compile SHEEN. The same switch (a light
+// pass of a layer whose world has an Iridescence material) draws a thin
+// film: its Fresnel at N.V (lib/iridescence.wgsl) mixed into the specular
+// and diffuse weights by the factor, as CookTorrance's IRIDESCENCE draws it
+// (lib/forward_light.wgsl's filmed_light); with EXTENSION_MAPS the
+// iridescence and thickness maps set the factor and thickness per fragment.
+// A soap bubble is a BLEND film. Forward light passes only: the compute
+// records keep no film, so Auto shades a filmed layer forward. (One switch
+// for both lobes, branched per material: a switch of its own would double
+// the light passes.)
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -148,12 +159,17 @@
 #import spreadlight::forward_light::{Light, lights, add_forward_light, add_light_record}
 #endif
 #ifdef ANISOTROPY
-// (Light passes over surface maps only.) The fragment's anisotropic lobe,
-// which the light function reads (lib/forward_light.wgsl holds it).
+#ifdef MATERIAL_MAPS
+// (Surface maps only.) The fragment's anisotropy direction and strength.
 #import spreadlight::material::{has_feature, FEATURE_ANISOTROPY}
 #import spreadlight::material_maps::mapped_anisotropy
+#endif
+#ifdef LIGHT_PASS
+// The fragment's anisotropic lobe, which the light function reads
+// (lib/forward_light.wgsl holds it; the compute shading sets it per record).
 #import spreadlight::anisotropy::anisotropic_surface
 #import spreadlight::forward_light::aniso
+#endif
 #endif
 #ifdef CLEARCOAT
 #ifdef MATERIALS
@@ -172,9 +188,13 @@
 #endif
 #endif
 #ifdef SHEEN
-// The shaded fragment's sheen (a light pass of a layer whose world has a
-// Sheen material), summed by the light function as the coat is.
+#ifdef MATERIALS
+// The fragment's sheen parameters (a light or recording base pass of a
+// layer whose world has a Sheen material).
 #import spreadlight::material::FEATURE_SHEEN
+#endif
+#ifdef LIGHT_PASS
+// The shaded fragment's sheen, summed by the light function as the coat is.
 #import spreadlight::forward_light::{sheen_color, sheen_roughness, sheen_sum, sheened_specular}
 #ifdef EXTENSION_MAPS
 #import spreadlight::material_maps::mapped_sheen
@@ -188,6 +208,7 @@
 #import spreadlight::material::FEATURE_IRIDESCENCE
 #import spreadlight::material_maps::mapped_film
 #import spreadlight::sheen_film::film_of
+#endif
 #endif
 #endif
 
@@ -544,6 +565,19 @@ fn mark_froxels(frag: vec2<f32>, view_depth: f32) {
 var<private> record_coat: vec2<f32>;
 var<private> record_coat_normal: vec3<f32>;
 #endif
+#ifdef SHEEN
+// Two words a slot (compute.rs's sheen buffer): the sheen's colour and roughness.
+@group(0) @binding(45) var<storage, read_write> sheen_records: array<u32>;
+// What `record_fragment` stores in it (rgb colour, a roughness): set by `fs`.
+var<private> record_sheen: vec4<f32>;
+#endif
+#ifdef ANISOTROPY
+// Two words a slot (compute.rs's anisotropy buffer): the direction and strength.
+@group(0) @binding(46) var<storage, read_write> anisotropy_records: array<u32>;
+// What `record_fragment` stores in it (xyz the world direction, any
+// length; w the strength): set by `fs`.
+var<private> record_anisotropy: vec4<f32>;
+#endif
 
 // World position and albedo as f32 (6), the normal (1), reflectance as f32
 // (1), roughness with metallic and alpha with coverage in 16 bits each (2).
@@ -592,6 +626,24 @@ fn record_fragment(frag: vec2<f32>, world: vec3<f32>, n: vec3<f32>, albedo: vec3
     coat_records[coat_at] = pack2x16snorm(octahedral(record_coat_normal));
     coat_records[coat_at + 1u] = pack2x16unorm(clamp(sanitize(vec4<f32>(record_coat, 0.0, 0.0)).xy, vec2<f32>(0.0), vec2<f32>(1.0)));
 #endif
+#ifdef SHEEN
+    // The sheen's record: colour and roughness, 16 bits each (0..1, as the light pass clamps them).
+    let sheen_at = 2u * (pixel * slots + k);
+    let sheen = clamp(sanitize(record_sheen), vec4<f32>(0.0), vec4<f32>(1.0));
+    sheen_records[sheen_at] = pack2x16unorm(sheen.xy);
+    sheen_records[sheen_at + 1u] = pack2x16unorm(sheen.zw);
+#endif
+#ifdef ANISOTROPY
+    // The anisotropy's record: the unit direction (octahedral), then the
+    // strength; a direction too short to have one is strength 0 (what the
+    // light function makes of it too).
+    let aniso_at = 2u * (pixel * slots + k);
+    let direction = sanitize(vec4<f32>(record_anisotropy.xyz, 0.0)).xyz;
+    let has_direction = dot(direction, direction) > 1e-12;
+    let strength = select(0.0, clamp(sanitize(record_anisotropy).w, 0.0, 1.0), has_direction);
+    anisotropy_records[aniso_at] = pack2x16snorm(octahedral(safe_normalize(direction, vec3<f32>(1.0, 0.0, 0.0))));
+    anisotropy_records[aniso_at + 1u] = pack2x16unorm(vec2<f32>(strength, 0.0));
+#endif
 }
 #endif
 
@@ -600,6 +652,12 @@ fn record_fragment(frag: vec2<f32>, world: vec3<f32>, n: vec3<f32>, albedo: vec3
 @group(0) @binding(41) var<storage, read> fragment_records: array<u32>;
 #ifdef CLEARCOAT
 @group(0) @binding(44) var<storage, read> coat_records: array<u32>;
+#endif
+#ifdef SHEEN
+@group(0) @binding(45) var<storage, read> sheen_records: array<u32>;
+#endif
+#ifdef ANISOTROPY
+@group(0) @binding(46) var<storage, read> anisotropy_records: array<u32>;
 #endif
 // As FRAGMENT_RECORDS writes them.
 const RECORD_WORDS: u32 = 10u;
@@ -789,6 +847,7 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     // shaded normal, and draws a fragment with none isotropic.
     var aniso_direction = vec3<f32>(0.0);
     var aniso_strength = 0.0;
+#ifdef MATERIAL_MAPS
     if (has_feature(in.material, FEATURE_ANISOTROPY)) {
         let a = mapped_anisotropy(in.material, coords, feature_param(in.material, FEATURE_ANISOTROPY, 0u, vec4<f32>(0.0)).xy);
         let t = safe_normalize(in.tangent.xyz, vec3<f32>(1.0, 0.0, 0.0));
@@ -796,6 +855,7 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
         aniso_direction = t * a.x + bt * a.y;
         aniso_strength = a.z;
     }
+#endif
 #endif
 #ifdef CLEARCOAT
     // The coat's (factor, roughness) and its normal, before facing: its
@@ -830,6 +890,18 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     let albedo = max(sanitize(base).rgb, vec3<f32>(0.0));
     let w = weight(in.distance, coverage);
     var out: Accumulated;
+#ifdef SHEEN
+    // The sheen's colour (black: none) and roughness, the light pass's and
+    // the record's (the compute entry points, which share this module, have
+    // no material world: none).
+    var sheen = vec4<f32>(0.0);
+#ifdef MATERIALS
+    sheen = clamp(sanitize(feature_param(in.material, FEATURE_SHEEN, 0u, vec4<f32>(0.0))), vec4<f32>(0.0), vec4<f32>(1.0));
+#ifdef EXTENSION_MAPS
+    sheen = mapped_sheen(in.material, coords, sheen);
+#endif
+#endif
+#endif
 #ifdef LIGHT_PASS
     // A back face (a shell's inside, seen through its front) is lit on the side it shows.
     let facing = select(-n, n, front);
@@ -844,10 +916,6 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     coat_sum = vec3<f32>(0.0);
 #endif
 #ifdef SHEEN
-    var sheen = clamp(sanitize(feature_param(in.material, FEATURE_SHEEN, 0u, vec4<f32>(0.0))), vec4<f32>(0.0), vec4<f32>(1.0));
-#ifdef EXTENSION_MAPS
-    sheen = mapped_sheen(in.material, coords, sheen);
-#endif
     sheen_color = sheen.rgb;
     sheen_roughness = sheen.a;
     sheen_sum = vec3<f32>(0.0);
@@ -932,6 +1000,12 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     record_coat = coat;
     record_coat_normal = select(-coat_n, coat_n, front);
 #endif
+#ifdef SHEEN
+    record_sheen = sheen;
+#endif
+#ifdef ANISOTROPY
+    record_anisotropy = vec4<f32>(aniso_direction, aniso_strength);
+#endif
     record_fragment(in.clip.xy, in.world, select(-n, n, front), albedo, roughness, metallic, reflectance, alpha, coverage);
 #endif
     var through = vec3<f32>(0.0);
@@ -971,6 +1045,14 @@ struct Recorded {
     coat: f32,
     coat_lobe: BrdfSurface,
 #endif
+#ifdef SHEEN
+    // rgb the colour, a the roughness.
+    sheen: vec4<f32>,
+#endif
+#ifdef ANISOTROPY
+    // xyz the unit direction (world), w the strength.
+    anisotropy: vec4<f32>,
+#endif
 }
 
 fn recorded(at: u32) -> Recorded {
@@ -993,6 +1075,14 @@ fn recorded(at: u32) -> Recorded {
     f.coat = coat.x;
     f.coat_lobe = brdf_surface(unoctahedral(unpack2x16snorm(coat_records[coat_at])), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
 #endif
+#ifdef SHEEN
+    let sheen_at = 2u * (at / RECORD_WORDS);
+    f.sheen = vec4<f32>(unpack2x16unorm(sheen_records[sheen_at]), unpack2x16unorm(sheen_records[sheen_at + 1u]));
+#endif
+#ifdef ANISOTROPY
+    let aniso_at = 2u * (at / RECORD_WORDS);
+    f.anisotropy = vec4<f32>(unoctahedral(unpack2x16snorm(anisotropy_records[aniso_at])), unpack2x16unorm(anisotropy_records[aniso_at + 1u]).x);
+#endif
     return f;
 }
 
@@ -1006,10 +1096,29 @@ fn begin_coat(f: Recorded, sum: vec3<f32>) {
 }
 #endif
 
+#ifdef SHEEN
+// Sets the private sheen state to fragment `f`'s, with `sum` its sheen's
+// light so far.
+fn begin_sheen(f: Recorded, sum: vec3<f32>) {
+    sheen_color = f.sheen.rgb;
+    sheen_roughness = f.sheen.a;
+    sheen_sum = sum;
+}
+#endif
+
+#ifdef ANISOTROPY
+// Sets the private anisotropic lobe to fragment `f`'s (strength 0: the
+// isotropic lobe), as the forward light pass sets it from the same inputs.
+fn begin_anisotropy(f: Recorded) {
+    aniso = anisotropic_surface(f.surface, f.anisotropy.xyz, f.anisotropy.w);
+}
+#endif
+
 // What fragment `f` lit by `sums` adds to the accumulation's colour: the
 // forward light pass's output for it.
-// With CLEARCOAT, the private coat state is the fragment's, summed over
-// the same lights (begin_coat, then the walk).
+// With CLEARCOAT and SHEEN, the private coat and sheen states are the
+// fragment's, summed over the same lights (begin_coat, begin_sheen, then
+// the walk).
 fn recorded_light(f: Recorded, sums: LightSums) -> vec3<f32> {
     let lit = light_sums_brdf(f.surface, sums);
     var specular = lit.specular;
@@ -1017,6 +1126,11 @@ fn recorded_light(f: Recorded, sums: LightSums) -> vec3<f32> {
     if (params.surface.z > 0.5) {
         specular *= surface_energy_compensation(f.surface);
     }
+#ifdef SHEEN
+    let sheened = sheened_specular(f.surface, specular);
+    specular = sheened.xyz;
+    lit_diffuse *= sheened.w;
+#endif
 #ifdef CLEARCOAT
     let over = coated_specular(specular);
     specular = over.xyz;
@@ -1072,6 +1186,12 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef CLEARCOAT
         begin_coat(f, vec3<f32>(0.0));
 #endif
+#ifdef SHEEN
+        begin_sheen(f, vec3<f32>(0.0));
+#endif
+#ifdef ANISOTROPY
+        begin_anisotropy(f);
+#endif
         sum += recorded_light(f, light_sums(frag, f.world, f.surface, f.view_depth));
         // What the base pass added to the accumulation's alpha for it.
         kept_weight += f.coverage * weight(f.view_depth, f.coverage);
@@ -1118,6 +1238,10 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
     // Each fragment's coat light, as `sums`.
     var coat_sums: array<vec3<f32>, MAX_SLOTS>;
 #endif
+#ifdef SHEEN
+    // Each fragment's sheen light, as `sums`.
+    var sheen_sums: array<vec3<f32>, MAX_SLOTS>;
+#endif
     for (var k = 0u; k < kept; k++) {
         let s = slice_of(recorded(first_at + RECORD_WORDS * k).view_depth);
         atomicOr(&tile_slices[s / 32u], 1u << (s % 32u));
@@ -1158,12 +1282,21 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
 #ifdef CLEARCOAT
                         begin_coat(f, coat_sums[k]);
 #endif
+#ifdef SHEEN
+                        begin_sheen(f, sheen_sums[k]);
+#endif
+#ifdef ANISOTROPY
+                        begin_anisotropy(f);
+#endif
                         for (var j = 0u; j < n; j++) {
                             add_light_record(batch_lights[j], batch_index[j], f.world, f.surface, f.view_depth, &acc);
                         }
                         sums[k] = acc;
 #ifdef CLEARCOAT
                         coat_sums[k] = coat_sum;
+#endif
+#ifdef SHEEN
+                        sheen_sums[k] = sheen_sum;
 #endif
                     }
                 }
@@ -1180,6 +1313,9 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
         let f = recorded(first_at + RECORD_WORDS * k);
 #ifdef CLEARCOAT
         begin_coat(f, coat_sums[k]);
+#endif
+#ifdef SHEEN
+        begin_sheen(f, sheen_sums[k]);
 #endif
         sum += recorded_light(f, sums[k]);
         kept_weight += f.coverage * weight(f.view_depth, f.coverage);

@@ -8,9 +8,11 @@
 //! spreadlight-gltf's Beer-Lambert `MaterialData::transmittance`) at every
 //! inner pixel. A world without such a map compiles none of their code.
 //! `KHR_materials_sheen`'s factors, through CookTorrance and lit
-//! transparency, against `spreadlight_reference::sheen`.
+//! transparency (forward and in compute), against
+//! `spreadlight_reference::sheen`.
 //! And the core maps beyond the G-buffer: an EnvironmentProbe's faces show
-//! a quad's checkered base colour texture.
+//! a quad's checkered base colour texture, its sheen and its iridescent
+//! film (against the CPU references, seen from the probe).
 //! `KHR_materials_anisotropy`'s factors and map through the G-buffer's
 //! anisotropy target into CookTorrance, against the CPU anisotropic lobe
 //! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`:
@@ -45,8 +47,10 @@ use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{
     CookTorrance, LightBuffer, LightLoop, PointLight, SunLight, Surfaces,
 };
+use spreadlight_render::post::transparency::TransparencyPass;
 use spreadlight_render::post::{
-    LitBy, Transparency, TransparencySettings, TransparencyShading, TransparentLights,
+    LitBy, Transparency, TransparencyKey, TransparencySettings, TransparencyShading,
+    TransparentLights,
 };
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
@@ -597,6 +601,237 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
     );
 }
 
+/// The -Z face (level 0) of an EnvironmentProbe 1.5 in front of the quad
+/// of `file`, lit by the point `light` alone (no sun, no ambient, a black
+/// background), and where the probe is.
+fn probe_face(renderer: &Renderer, file: &[u8], light: PointLight) -> (ImageF32, Vec3) {
+    use spreadlight_render::environment::{
+        Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeLights, ProbeScene,
+        ProbeSettings, Sky,
+    };
+    use spreadlight_render::readback::read_texture_layer;
+    use spreadlight_render::static_texture::StaticTexture;
+    let scene = load_gltf_slice(file, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let (_, layer) = world_and_layer(
+        renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
+    let position = Vec3::new(0.0, 0.0, 1.5);
+    let probe = ProbeScene::new(
+        vec![layer],
+        ProbeSettings {
+            position,
+            lighting: ProbeLighting {
+                sun_direction: Vec3::NEG_Y,
+                sun_color: Vec3::ZERO,
+                ambient: Vec3::ZERO,
+                background: Vec3::ZERO,
+            },
+            ..Default::default()
+        },
+    )
+    .expect("valid")
+    .with_lights(
+        vec![ProbeLights {
+            lights: LightBuffer::points(renderer, &[light]),
+            shadows: None,
+        }],
+        8,
+    )
+    .expect("a point buffer");
+    let env = Environment::new(
+        renderer,
+        None,
+        EnvironmentSource::Probe(Arc::new(probe)),
+        EnvironmentQuality {
+            cube_size: 32,
+            samples: 8,
+        },
+    );
+    let g = GBuffer::new(
+        renderer,
+        None,
+        Vec::new(),
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let black = vec![[0.0f32; 4]; (SIZE.0 * SIZE.1) as usize];
+    let lit = StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &black, "lit");
+    let sky = Sky::with_environment(
+        renderer,
+        None,
+        g,
+        lit.texture_ref(),
+        Default::default(),
+        Some(env.clone()),
+    );
+    let (report, _) =
+        render_and_read(renderer, sky.as_ref(), SIZE, &[&sky.output]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let maps = env.maps().expect("built");
+    let face = read_texture_layer(&renderer.gpu, &maps.base, 5, 0).expect("reads");
+    assert!(face.all_finite(), "no NaN or infinity on the face");
+    (face, position)
+}
+
+/// How many compiled probe-face shaders have `feature` on.
+fn probe_permutations(renderer: &Renderer, feature: &str) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| {
+            k.path() == "environment/environment_probe.wgsl" && k.features.contains(feature)
+        })
+        .count()
+}
+
+/// An EnvironmentProbe's faces draw the sheen and the iridescent film of
+/// what they see: a probe in front of the quad, lit by a point light, at
+/// chosen texels of its -Z face (a 5 x 5 grid over the quad): the plain
+/// quad and one with a sheen, a plain copper metal and one with an oil
+/// film, each within 2% + 2e-3 of the CPU reference (the half-float face)
+/// seen from the probe; the lobed quads differ from the plain ones in the
+/// direction the reference's difference says, wherever it says they differ
+/// by more than 1% (the sheen dims the diffuse and adds its pink lobe, the
+/// film recolours the metal's Fresnel). The plain file compiles none of the lobes; a quad
+/// with a coat and anisotropy too draws finite.
+#[test]
+fn an_environment_probe_sees_the_sheen_and_the_iridescent_film() {
+    use spreadlight_render::environment::probe::cube_direction;
+    let renderer = test_renderer();
+    let light = PointLight {
+        position: Vec3::new(0.5, 0.4, 1.2),
+        color: Vec3::ONE,
+        intensity: 3.0,
+        range: 8.0,
+        shadow: None,
+    };
+    let (plain, position) = probe_face(&renderer, &model(opaque_material(), "{}", &[]), light);
+    for lobe in ["CLEARCOAT", "SHEEN", "ANISOTROPY", "IRIDESCENCE"] {
+        assert_eq!(
+            probe_permutations(&renderer, lobe),
+            0,
+            "{lobe} for a plain file"
+        );
+    }
+    let (sheened, _) = probe_face(&renderer, &model(opaque_material(), SHEEN_EXT, &[]), light);
+    assert_eq!(probe_permutations(&renderer, "SHEEN"), 1);
+    // The film over a copper-coloured metal (all specular: the film's F is all it shows).
+    let copper = [0.95, 0.64, 0.54];
+    let metal = || {
+        let mut material = metal_material(0.4);
+        let [r, g, b] = copper;
+        material.pbr_metallic_roughness.base_color_factor =
+            json::material::PbrBaseColorFactor([r, g, b, 1.0]);
+        material
+    };
+    let (plain_metal, _) = probe_face(&renderer, &model(metal(), "{}", &[]), light);
+    let film = r#"{"KHR_materials_iridescence": {"iridescenceFactor": 0.6, "iridescenceIor": 1.5,
+        "iridescenceThicknessMaximum": 700}}"#;
+    let (filmed, _) = probe_face(&renderer, &model(metal(), film, &[]), light);
+    assert_eq!(probe_permutations(&renderer, "IRIDESCENCE"), 1);
+    let n = plain.width as f32;
+    let mut differing = [0; 2];
+    for row in 0..5 {
+        for column in 0..5 {
+            // A texel over the quad (|x|, |y| < 0.9 on it) and the point it sees.
+            let texel = |k: i32| ((k as f32 * 0.14 + 0.5) * n).floor() as u32;
+            let (tx, ty) = (texel(column - 2), texel(row - 2));
+            let uv = glam::Vec2::new(
+                (tx as f32 + 0.5) / n * 2.0 - 1.0,
+                (ty as f32 + 0.5) / n * 2.0 - 1.0,
+            );
+            let d = cube_direction(5, uv);
+            let p = position + d * (position.z / -d.z);
+            assert!(p.x.abs() < 0.9 && p.y.abs() < 0.9, "{p}");
+            let view = (position - p).normalize();
+            let to = light.position - p;
+            let radiance = light.color
+                * light.intensity
+                * spreadlight_reference::lights::point_attenuation(to.length(), light.range);
+            let l = to.normalize();
+            let base =
+                cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, 0.04, true);
+            let want_plain = (base.diffuse + base.specular) * radiance;
+            let (scaling, lobe) = spreadlight_reference::sheen::sheen(
+                Vec3::Z,
+                view,
+                l,
+                SHEEN_COLOR.into(),
+                SHEEN_ROUGHNESS,
+            );
+            let want_sheen = ((base.diffuse + base.specular) * scaling + lobe) * radiance;
+            let oil = cook_torrance_iridescent(
+                Vec3::Z,
+                view,
+                l,
+                copper.into(),
+                0.4,
+                1.0,
+                0.04,
+                Film::new(0.6, 1.5, 700.0),
+                true,
+            );
+            let want_film = (oil.diffuse + oil.specular) * radiance;
+            let bare = cook_torrance_f0(Vec3::Z, view, l, copper.into(), 0.4, 1.0, 0.04, true);
+            let want_metal = (bare.diffuse + bare.specular) * radiance;
+            let at = |image: &ImageF32| image.pixel(tx, ty);
+            for (k, (got, want)) in [
+                (at(&plain), want_plain),
+                (at(&sheened), want_sheen),
+                (at(&plain_metal), want_metal),
+                (at(&filmed), want_film),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                for c in 0..3 {
+                    assert!(
+                        (got[c] - want[c]).abs() <= 2e-3 + 2e-2 * want[c],
+                        "texel ({tx}, {ty}), image {k}: {got:?}, the reference says {want}"
+                    );
+                }
+            }
+            for (i, (image, want, bare, want_bare)) in [
+                (&sheened, want_sheen, &plain, want_plain),
+                (&filmed, want_film, &plain_metal, want_metal),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                for c in 0..3 {
+                    let said = want[c] - want_bare[c];
+                    if said.abs() > 1e-2 * want_bare[c] + 2e-3 {
+                        let got = at(image)[c] - at(bare)[c];
+                        assert!(
+                            got.signum() == said.signum(),
+                            "texel ({tx}, {ty}), channel {c}: the lobe moved it by {got}, the reference by {said}"
+                        );
+                        differing[i] += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        differing[0] >= 25 && differing[1] >= 15,
+        "texel channels the lobes change: {differing:?}"
+    );
+    // Every lobe at once, a coat and anisotropy too: compiled and finite.
+    let all = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7], "sheenRoughnessFactor": 0.6},
+        "KHR_materials_iridescence": {"iridescenceFactor": 1.0},
+        "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.1},
+        "KHR_materials_anisotropy": {"anisotropyStrength": 1.0}}"#;
+    probe_face(&renderer, &model(metal_material(0.0), all, &[]), light);
+    for lobe in ["CLEARCOAT", "ANISOTROPY"] {
+        assert_eq!(probe_permutations(&renderer, lobe), 1, "{lobe}");
+    }
+}
+
 /// The coat's unit normal that a clearcoatNormalTexture texel (rgb) gives
 /// on the quad: glTF's tangent frame there (MikkTSpace's, as the importer
 /// makes it) is +x along u and +y up the image (v runs down the quad); x
@@ -1132,13 +1367,103 @@ fn degenerate_anisotropy_stays_finite() {
     );
 }
 
+/// `scene`'s first layer as a lit transparent layer over black, lit by
+/// `lights` (walked by `light_loop`) alone and shaded as `shading` says:
+/// the node and its picture.
+fn lit_blend_scene(
+    renderer: &Renderer,
+    scene: &spreadlight_gltf::GltfScene,
+    shading: TransparencyShading,
+    light_loop: LightLoop,
+    lights: Arc<LightBuffer>,
+) -> (Arc<Transparency>, ImageF32) {
+    let pass = blend_node(renderer, scene, shading, light_loop, lights);
+    let out = render(renderer, pass.as_ref(), &pass.output, SIZE).1;
+    (pass, out)
+}
+
+/// The node of [`lit_blend_scene`], not rendered.
+fn blend_node(
+    renderer: &Renderer,
+    scene: &spreadlight_gltf::GltfScene,
+    shading: TransparencyShading,
+    light_loop: LightLoop,
+    lights: Arc<LightBuffer>,
+) -> Arc<Transparency> {
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        light_loop,
+        shading,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(
+        renderer,
+        scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
+    Transparency::lit(
+        renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights: vec![TransparentLights {
+                lights,
+                shadows: None,
+            }],
+            ..Default::default()
+        },
+    )
+}
+
+/// A BLEND version of `material`.
+fn blended(material: json::Material) -> json::Material {
+    let mut material = material;
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    material
+}
+
+/// The largest difference between two pictures, relative to 1 or the value
+/// where larger (the transparency tests' measure of forward against compute).
+fn largest_difference(a: &ImageF32, b: &ImageF32) -> (f32, String) {
+    let mut worst = (0.0, String::new());
+    for (i, (s, t)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        for (u, v) in s.iter().zip(t) {
+            let d = (u - v).abs() / u.abs().max(1.0);
+            if d > worst.0 {
+                worst = (d, format!("pixel {i}: {s:?} against {t:?}"));
+            }
+        }
+    }
+    worst
+}
+
+/// How close compute shading comes to the forward light passes: the
+/// tolerance of crates/render/tests/transparency.rs (`COMPUTE_TOLERANCE`:
+/// the records' 16-bit packing and the forward path's half-float sums).
+const COMPUTE_TOLERANCE: f32 = 4e-3;
+
 /// Lit transparency draws the anisotropic lobe: a BLEND metal quad of
 /// alpha 1 (the map and factors of
 /// [`the_anisotropy_map_and_factors_stretch_the_highlight`]) under [`SUN`],
 /// every inner pixel against the CPU lobe's diffuse + specular within 1% +
-/// 2e-3 (the half-float accumulation). Asked to shade in compute, the node
-/// shades forward (the compute records keep no direction) and draws the
-/// same picture.
+/// 2e-3 (the half-float accumulation), shaded forward and in compute (the
+/// fragment records keep each fragment's direction and strength), the two
+/// within the forward-against-compute tolerance of each other.
 #[test]
 fn lit_transparency_draws_the_anisotropic_lobe() {
     let renderer = test_renderer();
@@ -1146,54 +1471,27 @@ fn lit_transparency_draws_the_anisotropic_lobe() {
     let map = halves([255, 128, 255, 255], [128, 255, 128, 255], false);
     let ext = r#"{"KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5,
         "anisotropyTexture": {"index": {0}}}}"#;
-    let mut material = metal_material(roughness);
-    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
-    let scene = load_gltf_slice(&model(material, ext, &[map]), None).expect("loads");
+    let scene = load_gltf_slice(
+        &model(blended(metal_material(roughness)), ext, &[map]),
+        None,
+    )
+    .expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let texels = [[255u8, 128, 255], [128, 255, 128]];
+    let mut forward = None;
     for shading in [TransparencyShading::Forward, TransparencyShading::Compute] {
-        let g = GBuffer::new(
-            &renderer,
-            None,
-            vec![],
-            VIEW.camera(),
-            None,
-            SizeRule::Relative(1.0),
-        );
-        let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
-        let settings = TransparencySettings {
-            ambient: Vec3::ZERO,
-            light_color: Vec3::ZERO,
-            energy_compensation: true,
-            light_loop: LightLoop::Naive,
-            shading,
-            ..Default::default()
-        };
-        let (_, layer) = world_and_layer(
+        let (pass, out) = lit_blend_scene(
             &renderer,
             &scene,
-            Mat4::IDENTITY,
-            scene.materials[0].base_color,
+            shading,
+            LightLoop::Naive,
+            LightBuffer::suns(&renderer, &[SUN]),
         );
-        let pass = Transparency::lit(
-            &renderer,
-            None,
-            background.texture_ref(),
-            g,
-            vec![layer],
-            settings,
-            LitBy {
-                lights: vec![TransparentLights {
-                    lights: LightBuffer::suns(&renderer, &[SUN]),
-                    shadows: None,
-                }],
-                ..Default::default()
-            },
+        assert_eq!(
+            pass.shades_in_compute(),
+            shading == TransparencyShading::Compute
         );
-        assert!(!pass.shades_in_compute(), "{shading:?} shades forward");
-        let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
-            .1
-            .pixels;
+        let pixels = &out.pixels;
         let mut checked = [0; 2];
         for (i, p, u, _) in inner_pixels() {
             let [r, g, b] = texels[u].map(|c| c as f32 / 255.0);
@@ -1210,6 +1508,13 @@ fn lit_transparency_draws_the_anisotropic_lobe() {
             checked[u] += 1;
         }
         assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+        match &forward {
+            None => forward = Some(out),
+            Some(forward) => {
+                let (d, worst) = largest_difference(forward, &out);
+                assert!(d <= COMPUTE_TOLERANCE, "{d} from forward {worst}");
+            }
+        }
     }
     assert!(
         renderer
@@ -1218,6 +1523,131 @@ fn lit_transparency_draws_the_anisotropic_lobe() {
             .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("ANISOTROPY")),
         "the light pass compiled the lobe"
     );
+}
+
+/// Points near the quad, in front of it: a point light's highlight moves
+/// across the quad, so the lobes' shapes show; clustered, so Tiled shares
+/// their lists.
+fn near_points() -> [PointLight; 2] {
+    [
+        PointLight {
+            position: Vec3::new(0.6, 0.7, 1.2),
+            color: Vec3::new(1.0, 0.9, 0.8),
+            intensity: 4.0,
+            range: 6.0,
+            shadow: None,
+        },
+        PointLight {
+            position: Vec3::new(-0.8, -0.3, 0.9),
+            color: Vec3::new(0.4, 0.6, 1.0),
+            intensity: 2.0,
+            range: 4.0,
+            shadow: None,
+        },
+    ]
+}
+
+/// Compute and Tiled shading draw the sheen, the anisotropic lobe and both
+/// together on BLEND quads as the forward light passes do (within the
+/// forward-against-compute tolerance), under two clustered point lights;
+/// each lobe changes the picture, Auto shades such layers in compute, and
+/// the shade passes compile SHEEN and ANISOTROPY only for a node whose
+/// layers have them (a plain quad's compile neither).
+#[test]
+fn compute_transparency_draws_the_sheen_and_anisotropy_as_forward_does() {
+    let renderer = test_renderer();
+    let points = near_points();
+    let lights = || LightBuffer::points(&renderer, &points);
+    let map = halves([255, 128, 255, 255], [128, 255, 128, 255], false);
+    let aniso = r#""KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5,
+        "anisotropyTexture": {"index": {0}}}"#;
+    let sheen = r#""KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7], "sheenRoughnessFactor": 0.6}"#;
+    let material = || blended(metal_material(0.3));
+    let plain = load_gltf_slice(&model(material(), "{}", &[]), None).expect("loads");
+    let (plain_pass, plain_out) = lit_blend_scene(
+        &renderer,
+        &plain,
+        TransparencyShading::Compute,
+        LightLoop::Clustered,
+        lights(),
+    );
+    assert!(plain_pass.shades_in_compute());
+    let shade_keys = |pass: &Transparency| -> Vec<TransparencyKey> {
+        pass.keys()
+            .into_iter()
+            .filter(|k| {
+                matches!(
+                    k.pass,
+                    TransparencyPass::Shade(_) | TransparencyPass::ShadeTiled(_)
+                )
+            })
+            .collect()
+    };
+    let plain_keys = shade_keys(&plain_pass);
+    assert!(!plain_keys.is_empty());
+    assert!(plain_keys.iter().all(|k| !k.sheen && !k.anisotropy));
+    for (what, ext, maps, has_sheen, has_aniso) in [
+        ("sheen", format!("{{{sheen}}}"), vec![], true, false),
+        (
+            "anisotropy",
+            format!("{{{aniso}}}"),
+            vec![map.clone()],
+            false,
+            true,
+        ),
+        (
+            "both",
+            format!("{{{sheen}, {aniso}}}"),
+            vec![map.clone()],
+            true,
+            true,
+        ),
+    ] {
+        let scene = load_gltf_slice(&model(material(), &ext, &maps), None).expect("loads");
+        assert!(scene.warnings.is_empty(), "{what}: {:?}", scene.warnings);
+        let (forward_pass, forward) = lit_blend_scene(
+            &renderer,
+            &scene,
+            TransparencyShading::Forward,
+            LightLoop::Clustered,
+            lights(),
+        );
+        assert!(!forward_pass.shades_in_compute());
+        let (changed, _) = largest_difference(&plain_out, &forward);
+        assert!(
+            changed > 0.01,
+            "{what}: the lobe changes the picture by {changed}"
+        );
+        // Auto is Compute on every adapter: such a layer no longer sends it forward.
+        let auto = blend_node(
+            &renderer,
+            &scene,
+            TransparencyShading::Auto,
+            LightLoop::Clustered,
+            lights(),
+        );
+        assert!(auto.shades_in_compute(), "{what}: Auto shades in compute");
+        for shading in [TransparencyShading::Compute, TransparencyShading::Tiled] {
+            let (pass, out) =
+                lit_blend_scene(&renderer, &scene, shading, LightLoop::Clustered, lights());
+            assert!(
+                pass.shades_in_compute(),
+                "{what}: {shading:?} shades in compute"
+            );
+            let keys = shade_keys(&pass);
+            assert!(!keys.is_empty(), "{what}: {shading:?}");
+            assert!(
+                keys.iter()
+                    .all(|k| k.sheen == has_sheen && k.anisotropy == has_aniso),
+                "{what}: {shading:?}: {keys:?}"
+            );
+            let (d, worst) = largest_difference(&forward, &out);
+            assert!(
+                d <= COMPUTE_TOLERANCE,
+                "{what}: {shading:?} is {d} from forward {worst}"
+            );
+        }
+    }
 }
 
 /// How many compiled shaders have IRIDESCENCE on.
@@ -1456,58 +1886,28 @@ fn the_sheen_factors_light_the_quad_as_the_reference_says() {
     }
 }
 
-/// A BLEND quad with a sheen through lit transparency's forward light pass
-/// (a node with a sheen layer shades forward under Auto): every inner
-/// pixel's colour against the same reference as the opaque surface.
+/// A BLEND quad with a sheen through lit transparency, shaded in compute
+/// under Auto (the fragment records keep the sheen): every inner pixel's
+/// colour against the same reference as the opaque surface.
 #[test]
 fn lit_transparency_draws_the_sheen() {
     let renderer = test_renderer();
-    let mut material = opaque_material();
-    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
-    let scene = load_gltf_slice(&model(material, SHEEN_EXT, &[]), None).expect("loads");
+    let scene =
+        load_gltf_slice(&model(blended(opaque_material()), SHEEN_EXT, &[]), None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let g = GBuffer::new(
-        &renderer,
-        None,
-        vec![],
-        VIEW.camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
-    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
-    let settings = TransparencySettings {
-        ambient: Vec3::ZERO,
-        light_color: Vec3::ZERO,
-        energy_compensation: true,
-        ..Default::default()
-    };
-    let (_, layer) = world_and_layer(
+    let (pass, out) = lit_blend_scene(
         &renderer,
         &scene,
-        Mat4::IDENTITY,
-        scene.materials[0].base_color,
+        TransparencyShading::Auto,
+        LightLoop::Auto,
+        LightBuffer::suns(&renderer, &[SUN]),
     );
-    let lights = vec![TransparentLights {
-        lights: LightBuffer::suns(&renderer, &[SUN]),
-        shadows: None,
-    }];
-    let pass = Transparency::lit(
-        &renderer,
-        None,
-        background.texture_ref(),
-        g,
-        vec![layer],
-        settings,
-        LitBy {
-            lights,
-            ..Default::default()
-        },
+    assert!(pass.shades_in_compute(), "a sheen layer shades in compute");
+    let pixels = out.pixels;
+    assert!(
+        sheen_permutations(&renderer) >= 2,
+        "the record's and the shade's"
     );
-    assert!(!pass.shades_in_compute(), "a sheen layer shades forward");
-    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
-        .1
-        .pixels;
-    assert!(sheen_permutations(&renderer) >= 1);
     let mut checked = 0;
     for (i, p, _, _) in inner_pixels() {
         let (want_d, want_s) = sheened_reference(p, (SHEEN_COLOR, SHEEN_ROUGHNESS));

@@ -7,19 +7,21 @@
 //! and, when the probe has one, the sun's shadow maps; then, in the same
 //! render pass, each point or spot light buffer draws the layers again
 //! (LIGHT_PASS, depth-tested equal, added), its lights shaded by the
-//! forward passes' shared light function. The prefilter then makes the
-//! cube's mips and roughness levels from it.
+//! forward passes' shared light function, with the material extensions'
+//! lobes (clear coat, sheen, anisotropy, iridescence) of a glTF layer whose
+//! world has them (`ProbeLobes`). The prefilter then makes the cube's
+//! mips and roughness levels from it.
 
 use std::hash::{Hash, Hasher};
 
 use wgpu::util::DeviceExt;
 
-use super::key::{ProbeFacesKey, ProbePass, ProbeUv};
+use super::key::{ProbeFacesKey, ProbeLobes, ProbePass, ProbeUv};
 use super::{ProbeScene, SURFACE_METALLIC, SURFACE_ROUGHNESS, face_view_projection};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
-use crate::material::MaterialWorld;
+use crate::material::{FEATURE_CLEARCOAT, FEATURE_IRIDESCENCE, FEATURE_SHEEN, MaterialWorld};
 use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
@@ -119,6 +121,17 @@ impl PackedProbe {
             maps,
             worlds,
         }
+    }
+}
+
+/// The material extensions' lobes a light pass over `world`'s surface
+/// maps draws: those some material of the world has.
+fn lobes_of(world: &MaterialWorld) -> ProbeLobes {
+    ProbeLobes {
+        coat: world.any_has(FEATURE_CLEARCOAT),
+        sheen: world.any_has(FEATURE_SHEEN),
+        anisotropy: world.has_anisotropy(),
+        iridescence: world.any_has(FEATURE_IRIDESCENCE),
     }
 }
 
@@ -356,6 +369,10 @@ pub(crate) fn render(
                 normal_map: normal.is_some(),
                 surface_maps: world.is_some(),
                 pass,
+                lobes: match (pass, world) {
+                    (ProbePass::Light { .. }, Some(world)) => lobes_of(world),
+                    _ => ProbeLobes::default(),
+                },
             };
             let key = faces_key.key();
             let lit = matches!(pass, ProbePass::Light { .. });

@@ -21,6 +21,47 @@ pub struct ProbeFacesKey {
     /// A glTF layer's surface maps (MATERIAL_MAPS; never with the layer's own textures).
     pub surface_maps: bool,
     pub pass: ProbePass,
+    /// The material extensions' lobes a light pass over surface maps draws
+    /// (none for any other pass: the probe's sun and ambient light the
+    /// diffuse alone).
+    pub lobes: ProbeLobes,
+}
+
+/// The material extensions' lobes on a probe's faces, each compiled only
+/// for a layer whose world has such a material.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ProbeLobes {
+    /// The clear coat's lobe and the dimming under it (CLEARCOAT).
+    pub coat: bool,
+    /// The sheen's Charlie lobe and the dimming under it (SHEEN).
+    pub sheen: bool,
+    /// The specular lobe stretched along the anisotropy direction (ANISOTROPY).
+    pub anisotropy: bool,
+    /// The thin film's Fresnel (IRIDESCENCE).
+    pub iridescence: bool,
+}
+
+impl ProbeLobes {
+    /// Every set of lobes.
+    fn all() -> impl Iterator<Item = ProbeLobes> {
+        (0..16u8).map(|b| ProbeLobes {
+            coat: b & 1 != 0,
+            sheen: b & 2 != 0,
+            anisotropy: b & 4 != 0,
+            iridescence: b & 8 != 0,
+        })
+    }
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        [
+            (self.coat, "CLEARCOAT"),
+            (self.sheen, "SHEEN"),
+            (self.anisotropy, "ANISOTROPY"),
+            (self.iridescence, "IRIDESCENCE"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+    }
 }
 
 /// Which of a face's passes a pipeline draws.
@@ -99,6 +140,10 @@ impl Permutation for ProbeFacesKey {
         "LIGHT_PASS",
         "LIGHT_SPOT",
         "SPOT_TEXTURE",
+        "CLEARCOAT",
+        "SHEEN",
+        "ANISOTROPY",
+        "IRIDESCENCE",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -113,10 +158,12 @@ impl Permutation for ProbeFacesKey {
             .chain(uv)
             .chain(self.surface_maps.then_some("MATERIAL_MAPS"))
             .chain(self.pass.features())
+            .chain(self.lobes.features())
     }
 
     /// A layer without textures, with a Color Texture, a Normal Map or
-    /// both by either mapping, or with glTF surface maps; each in every pass.
+    /// both by either mapping, or with glTF surface maps; each in every
+    /// pass; a light pass over surface maps with every set of lobes.
     fn all() -> Vec<Self> {
         let mut surfaces = vec![(ProbeUv::None, false, false, false)];
         for uv in [ProbeUv::Texcoords, ProbeUv::Triplanar] {
@@ -128,13 +175,17 @@ impl Permutation for ProbeFacesKey {
         let mut all = Vec::new();
         for pass in ProbePass::all() {
             for &(uv, color_map, normal_map, surface_maps) in &surfaces {
-                all.push(ProbeFacesKey {
-                    uv,
-                    color_map,
-                    normal_map,
-                    surface_maps,
-                    pass,
-                });
+                let lobed = surface_maps && matches!(pass, ProbePass::Light { .. });
+                for lobes in ProbeLobes::all().filter(|l| lobed || *l == ProbeLobes::default()) {
+                    all.push(ProbeFacesKey {
+                        uv,
+                        color_map,
+                        normal_map,
+                        surface_maps,
+                        pass,
+                        lobes,
+                    });
+                }
             }
         }
         all

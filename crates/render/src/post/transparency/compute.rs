@@ -21,6 +21,11 @@
 //! (16-bit normal, roughness, metallic, alpha and coverage) and the f32 sum
 //! (the tests hold it within 4e-3, the forward half-float sum's rounding).
 //!
+//! A node with a coated, sheen or anisotropic layer also keeps that lobe's
+//! inputs per slot, 8 bytes each, in a buffer of its own
+//! (`RecordedLobes`): made, cleared, written and read only then, so a
+//! frame without such a layer records what it did before.
+//!
 //! A pixel with more fragments than slots lights the missed ones as its
 //! recorded ones on average per weight: approximate there, never dark or
 //! NaN. The missed fragments are counted on the GPU ([`FragmentLists::missed`]
@@ -87,8 +92,20 @@ pub const SLOTS: u32 = 8;
 /// One fragment record: ten u32 words (transparency.wgsl's RECORD_WORDS).
 const RECORD_BYTES: u64 = 40;
 /// A coated node's second record per slot: the coat's normal, factor and
-/// roughness (two u32 words; transparency.wgsl's `coat_records`).
-const COAT_RECORD_BYTES: u64 = 8;
+/// roughness (two u32 words; transparency.wgsl's `coat_records`). A node
+/// with a sheen layer has one more for its colour and roughness
+/// (`sheen_records`), one with an anisotropic layer one for its direction
+/// and strength (`anisotropy_records`), each of the same size.
+const LOBE_RECORD_BYTES: u64 = 8;
+
+/// Which per-slot records besides the fragment's a node's layers need: the
+/// lobes some layer's material has ([`ListBuffers`]' optional buffers).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct RecordedLobes {
+    pub coat: bool,
+    pub sheen: bool,
+    pub anisotropy: bool,
+}
 
 /// Counted: the slots per pixel of this frame's fragment lists.
 pub const FRAGMENT_SLOTS: &str = "transparency fragment slots per pixel";
@@ -125,6 +142,30 @@ pub(crate) struct ListBuffers {
     pub light: wgpu::Buffer,
     /// `slots` coat records per pixel, only when some layer has a coat.
     pub coat: Option<wgpu::Buffer>,
+    /// `slots` sheen records per pixel, only when some layer has a sheen.
+    pub sheen: Option<wgpu::Buffer>,
+    /// `slots` anisotropy records per pixel, only when some layer is anisotropic.
+    pub anisotropy: Option<wgpu::Buffer>,
+}
+
+impl ListBuffers {
+    /// The lobes these buffers record.
+    pub fn lobes(&self) -> RecordedLobes {
+        RecordedLobes {
+            coat: self.coat.is_some(),
+            sheen: self.sheen.is_some(),
+            anisotropy: self.anisotropy.is_some(),
+        }
+    }
+
+    /// The lobe records, which no fragment of a layer without that lobe
+    /// writes and every shade reads: a cleared record is no coat, no sheen
+    /// (black) and the isotropic lobe (strength 0).
+    pub fn lobe_buffers(&self) -> impl Iterator<Item = &wgpu::Buffer> {
+        [&self.coat, &self.sheen, &self.anisotropy]
+            .into_iter()
+            .flatten()
+    }
 }
 
 /// Per node: the fragment lists' buffers, kept from frame to frame while
@@ -133,20 +174,20 @@ pub(crate) struct ListBuffers {
 pub(crate) struct FragmentLists(Mutex<Option<std::sync::Arc<ListBuffers>>>);
 
 impl FragmentLists {
-    /// Buffers for `pixels` pixels with `slots` slots each (and coat
-    /// records with `coat`), last frame's when they match.
+    /// Buffers for `pixels` pixels with `slots` slots each (and the
+    /// records of `lobes`), last frame's when they match.
     pub fn get(
         &self,
         gpu: &GpuContext,
         pixels: u32,
         slots: u32,
-        coat: bool,
+        lobes: RecordedLobes,
     ) -> std::sync::Arc<ListBuffers> {
         let mut kept = self.0.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(buffers) = kept.as_ref()
             && buffers.pixels == pixels
             && buffers.slots == slots
-            && buffers.coat.is_some() == coat
+            && buffers.lobes() == lobes
         {
             return buffers.clone();
         }
@@ -159,6 +200,13 @@ impl FragmentLists {
             })
         };
         let pixels64 = u64::from(pixels);
+        let lobe_records = |label: &str| {
+            storage(
+                label,
+                pixels64 * u64::from(slots) * LOBE_RECORD_BYTES,
+                wgpu::BufferUsages::empty(),
+            )
+        };
         let buffers = std::sync::Arc::new(ListBuffers {
             pixels,
             slots,
@@ -179,14 +227,16 @@ impl FragmentLists {
                 pixels64 * 16,
                 wgpu::BufferUsages::empty(),
             ),
-            // A fifth of the records: within the limits whenever they are.
-            coat: coat.then(|| {
-                storage(
-                    "transparency coat records",
-                    pixels64 * u64::from(slots) * COAT_RECORD_BYTES,
-                    wgpu::BufferUsages::empty(),
-                )
-            }),
+            // Each a fifth of the records: within the limits whenever they are.
+            coat: lobes
+                .coat
+                .then(|| lobe_records("transparency coat records")),
+            sheen: lobes
+                .sheen
+                .then(|| lobe_records("transparency sheen records")),
+            anisotropy: lobes
+                .anisotropy
+                .then(|| lobe_records("transparency anisotropy records")),
         });
         *kept = Some(buffers.clone());
         buffers

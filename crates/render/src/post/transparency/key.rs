@@ -27,19 +27,21 @@ pub struct TransparencyKey {
     /// The anisotropic lobe (ANISOTROPY): a forward light pass of a layer
     /// with surface maps whose world has an Anisotropy material stretches
     /// its fragments' highlights along the direction its tangents and
-    /// anisotropy map give (`KHR_materials_anisotropy`). Only for light
-    /// passes over surface maps: a node with such a layer shades its lights
-    /// forward, whatever its shading asks (the compute records carry no
-    /// direction).
+    /// anisotropy map give (`KHR_materials_anisotropy`); a recording base
+    /// pass of such a layer writes each fragment's direction and strength,
+    /// and the compute shading of a node with such a layer reads them. Never
+    /// for a surface without surface maps, nor a base pass recording nothing.
     pub anisotropy: bool,
     /// The sheen and the thin film (SHEEN): a forward light pass of a layer
     /// whose world has a Sheen material adds the sheen's lobe and dims the
-    /// base under it; one whose world has an Iridescence material mixes the
-    /// film's Fresnel into the specular and diffuse weights (one switch for
-    /// both extension lobes, branched per material in the shader).
-    /// Only light passes of a surface with a material world (a node with
-    /// a sheen layer shades forward under Auto: the compute records keep
-    /// no sheen).
+    /// base under it; a recording base pass of such a layer writes each
+    /// fragment's sheen, and the compute shading of a node with such a layer
+    /// reads them. A light pass of a layer whose world has an Iridescence
+    /// material mixes the film's Fresnel into the specular and diffuse
+    /// weights (one switch for both extension lobes, branched per material
+    /// in the shader; the compute records keep no film, so a filmed layer
+    /// shades forward under Auto). Only those passes of a surface with a
+    /// material world.
     pub sheen: bool,
 }
 
@@ -368,8 +370,9 @@ impl Permutation for TransparencyKey {
     /// world; marking froxels or not; recording fragments or not), each
     /// without transmission and with either blur, and with every light pass;
     /// the compute shading of every light pass and its resolve, without a
-    /// surface; each with the coat where it can have one
-    /// ([`TransparencyKey::coat`]). The validation test composes each.
+    /// surface; each with the coat, the sheen and the anisotropic lobe where
+    /// it can have them ([`TransparencyKey::coat`], `sheen`, `anisotropy`).
+    /// The validation test composes each.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -413,8 +416,15 @@ impl Permutation for TransparencyKey {
                             } => coated && (records || environment),
                             _ => coated,
                         };
-                        let stretches = anisotropic && matches!(pass, TransparencyPass::Light(_));
-                        let sheens = coated && matches!(pass, TransparencyPass::Light(_));
+                        // The lobes' inputs are read by the light passes and
+                        // the recording base passes.
+                        let reads_lobes = matches!(
+                            pass,
+                            TransparencyPass::Light(_)
+                                | TransparencyPass::Base { records: true, .. }
+                        );
+                        let stretches = anisotropic && reads_lobes;
+                        let sheens = coated && reads_lobes;
                         [false, true]
                             .into_iter()
                             .filter(move |&coat| !coat || coats)
@@ -448,12 +458,13 @@ impl Permutation for TransparencyKey {
                         std::iter::once(TransparencyPass::Shade(light)).chain(tiled)
                     })
                     .flat_map(|pass| {
-                        [false, true].map(|coat| TransparencyKey {
+                        // Every set of lobes some node's layers can have.
+                        (0..8u8).map(move |lobes| TransparencyKey {
                             surface: Self::COMPOSITE.surface,
                             pass,
-                            coat,
-                            anisotropy: false,
-                            sheen: false,
+                            coat: lobes & 1 != 0,
+                            anisotropy: lobes & 2 != 0,
+                            sheen: lobes & 4 != 0,
                         })
                     })
                     .chain([TransparencyKey::SHADED_RESOLVE]),
@@ -603,11 +614,43 @@ mod tests {
         };
         assert!(all.contains(&coated_shade));
         assert_eq!(coated_shade.features().last(), Some("CLEARCOAT"));
-        // The sheen: forward light passes of surfaces with a material world only.
-        assert!(all.iter().any(|k| k.sheen));
-        assert!(all.iter().filter(|k| k.sheen).all(|k| {
-            matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
-        }));
+        // The sheen: light and recording base passes of surfaces with a
+        // material world, and compute shading; the anisotropic lobe the
+        // same over surface maps.
+        assert!(all.iter().any(|k| k.sheen) && all.iter().any(|k| k.anisotropy));
+        for (lobe, surface_ok) in [
+            (
+                (|k: &TransparencyKey| k.sheen) as fn(&TransparencyKey) -> bool,
+                (|s: SurfaceKey| s.reads_materials()) as fn(SurfaceKey) -> bool,
+            ),
+            (|k| k.anisotropy, |s| s.maps.is_surface()),
+        ] {
+            assert!(all.iter().filter(|k| lobe(k)).all(|k| match k.pass {
+                TransparencyPass::Light(_) | TransparencyPass::Base { records: true, .. } =>
+                    surface_ok(k.surface),
+                TransparencyPass::Shade(_) | TransparencyPass::ShadeTiled(_) => true,
+                _ => false,
+            }));
+        }
+        let lobed_shade = TransparencyKey {
+            coat: true,
+            sheen: true,
+            anisotropy: true,
+            ..shade
+        };
+        assert!(all.contains(&lobed_shade));
+        assert_eq!(
+            lobed_shade.features().collect::<Vec<_>>(),
+            [
+                "LIGHT_PASS",
+                "CLUSTERED",
+                "FROXELS",
+                "COMPUTE_SHADE",
+                "CLEARCOAT",
+                "ANISOTROPY",
+                "SHEEN"
+            ]
+        );
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
             TransparencyPass::Base {
                 records,

@@ -369,24 +369,19 @@ impl Transparency {
             let (w, h) = renderer.output_size();
             compute::slots_on(&renderer.gpu, u64::from(w) * u64::from(h)) > 0
         };
-        // A layer with an anisotropic material is lit forward: the compute
-        // records keep no anisotropy direction (TransparencyKey::anisotropy).
-        let anisotropic = layers
-            .iter()
-            .any(|l| l.map_world().is_some_and(|w| w.has_anisotropy()));
-        // A layer with a sheen or a thin film shades forward under Auto:
-        // the compute shading's fragment records keep neither (Compute and
-        // Tiled asked by name draw such a layer without them).
-        let sheened = layers.iter().any(|l| {
+        // Sheen and anisotropic layers shade in compute too: their records
+        // keep the lobes' inputs (compute::RecordedLobes). A layer with a
+        // thin film shades forward under Auto: the records keep no film
+        // (Compute and Tiled asked by name draw such a layer without it).
+        let filmed = layers.iter().any(|l| {
             l.map_world()
                 .or(l.materials.as_ref())
                 .or(materials.as_ref())
-                .is_some_and(|w| w.any_has(FEATURE_SHEEN) || w.any_has(FEATURE_IRIDESCENCE))
+                .is_some_and(|w| w.any_has(FEATURE_IRIDESCENCE))
         });
         let compute = !lights.is_empty()
-            && !anisotropic
             && settings.shading.computes(renderer.gpu.adapter_class())
-            && (settings.shading != TransparencyShading::Auto || (fits() && !sheened));
+            && (settings.shading != TransparencyShading::Auto || (fits() && !filmed));
         let lists = owner
             .map(|node| renderer.state::<FragmentLists>(u64::from(node)))
             .unwrap_or_default();
@@ -472,12 +467,13 @@ impl Transparency {
         }
         if self.compute && !keys.is_empty() {
             for light in self.light_keys() {
+                let lobes = self.recorded_lobes();
                 let key = TransparencyKey {
                     surface: TransparencyKey::COMPOSITE.surface,
                     pass: self.shade_pass(light),
-                    coat: self.coated(),
-                    anisotropy: false,
-                    sheen: false,
+                    coat: lobes.coat,
+                    anisotropy: lobes.anisotropy,
+                    sheen: lobes.sheen,
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -561,8 +557,9 @@ impl Transparency {
     }
 
     /// Whether a pass of a layer with `surface` reading `world` compiles
-    /// the anisotropic lobe ([`TransparencyKey::anisotropy`]): a forward
-    /// light pass over surface maps whose world has an Anisotropy material.
+    /// the anisotropic lobe ([`TransparencyKey::anisotropy`]): a light pass
+    /// or a recording base pass over surface maps whose world has an
+    /// Anisotropy material.
     fn anisotropy(
         surface: SurfaceKey,
         world: Option<&Arc<MaterialWorld>>,
@@ -570,29 +567,49 @@ impl Transparency {
     ) -> bool {
         surface.maps.is_surface()
             && world.is_some_and(|w| w.has_anisotropy())
-            && matches!(pass, TransparencyPass::Light(_))
+            && Self::lights_or_records(pass)
     }
 
     /// Whether a pass of a layer reading `world` compiles the sheen and the
     /// thin film ([`TransparencyKey::sheen`]): a light pass of a world with
-    /// a Sheen or an Iridescence material. One switch for both (the shader
-    /// branches per material): a switch of its own for the film would add
-    /// 3,080 permutations for a few dozen lines of code.
+    /// a Sheen or an Iridescence material, or a recording base pass of a
+    /// world with a Sheen material (the compute records keep the sheen, not
+    /// the film). One switch for both lobes (the shader branches per
+    /// material): a switch of its own for the film would add 3,080
+    /// permutations for a few dozen lines of code.
     fn sheen(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
-        matches!(pass, TransparencyPass::Light(_))
-            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN) || w.any_has(FEATURE_IRIDESCENCE))
+        (matches!(pass, TransparencyPass::Light(_))
+            && world.is_some_and(|w| w.any_has(FEATURE_IRIDESCENCE)))
+            || (Self::lights_or_records(pass) && world.is_some_and(|w| w.any_has(FEATURE_SHEEN)))
     }
 
-    /// Some layer of the node has a coat: the compute shading reads coat
-    /// records (which are then made and cleared each frame).
-    fn coated(&self) -> bool {
-        self.layers.iter().zip(&self.layer_ranges).any(|(l, r)| {
-            r.0 != r.1
-                && self
-                    .surface(l)
-                    .1
-                    .is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0)
-        })
+    /// A forward light pass, or a base pass that records its fragments for
+    /// the compute shading: the passes a lobe's inputs are read in.
+    fn lights_or_records(pass: TransparencyPass) -> bool {
+        matches!(
+            pass,
+            TransparencyPass::Light(_) | TransparencyPass::Base { records: true, .. }
+        )
+    }
+
+    /// The lobes some drawn layer of the node has: the compute shading
+    /// reads their records (which are then made and cleared each frame) and
+    /// compiles their code.
+    fn recorded_lobes(&self) -> compute::RecordedLobes {
+        let mut lobes = compute::RecordedLobes::default();
+        for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
+            if range.0 == range.1 {
+                continue;
+            }
+            let (surface, world) = self.surface(layer);
+            let Some(world) = world else {
+                continue;
+            };
+            lobes.coat |= world.union_flags() & (1 << FEATURE_CLEARCOAT) != 0;
+            lobes.sheen |= world.any_has(FEATURE_SHEEN);
+            lobes.anisotropy |= surface.maps.is_surface() && world.has_anisotropy();
+        }
+        lobes
     }
 
     /// Whether some light pass walks froxel lists (which the base pass marks).
@@ -772,7 +789,9 @@ impl Transparency {
                         b = b
                             .buffer("fragment_counts", &lists.counts)
                             .buffer("fragment_records", &lists.records)
-                            .buffer_opt("coat_records", lists.coat.as_ref());
+                            .buffer_opt("coat_records", lists.coat.as_ref())
+                            .buffer_opt("sheen_records", lists.sheen.as_ref())
+                            .buffer_opt("anisotropy_records", lists.anisotropy.as_ref());
                     }
                     match (set, transmits, io.lit, &mips) {
                         // The chain's levels, read trilinearly (RefractionKey::Mips).
@@ -846,10 +865,10 @@ impl Transparency {
             // The records need no clearing: a pixel reads only as many as it counted.
             cx.encoder().clear_buffer(&lists.counts, 0, None);
             cx.encoder().clear_buffer(&lists.light, 0, None);
-            // Cleared: a fragment of an uncoated layer writes no coat record,
-            // and reads none (factor 0).
-            if let Some(coat) = &lists.coat {
-                cx.encoder().clear_buffer(coat, 0, None);
+            // Cleared: a fragment of a layer without a lobe writes no record
+            // of it, and reads none (no coat, no sheen, the isotropic lobe).
+            for records in lists.lobe_buffers() {
+                cx.encoder().clear_buffer(records, 0, None);
             }
             cx.count(compute::FRAGMENT_SLOTS, u64::from(lists.slots));
         }
@@ -907,7 +926,9 @@ impl Transparency {
                 ),
             });
         }
-        Ok(self.lists.get(cx.gpu, (w * h).max(1), slots, self.coated()))
+        Ok(self
+            .lists
+            .get(cx.gpu, (w * h).max(1), slots, self.recorded_lobes()))
     }
 
     /// Light buffer `set`'s light on every recorded fragment, added to the
@@ -931,12 +952,13 @@ impl Transparency {
             TransparencyPass::ShadeTiled(_) => "shade_tiled",
             _ => "shade",
         };
+        let lobes = lists.lobes();
         let key = TransparencyKey {
             surface: TransparencyKey::COMPOSITE.surface,
             pass,
-            coat: lists.coat.is_some(),
-            anisotropy: false,
-            sheen: false,
+            coat: lobes.coat,
+            anisotropy: lobes.anisotropy,
+            sheen: lobes.sheen,
         }
         .key();
         let size = cx.size_of(io.accumulation)?;
@@ -946,6 +968,8 @@ impl Transparency {
             .buffer("fragment_counts", &lists.counts)
             .buffer("fragment_records", &lists.records)
             .buffer_opt("coat_records", lists.coat.as_ref())
+            .buffer_opt("sheen_records", lists.sheen.as_ref())
+            .buffer_opt("anisotropy_records", lists.anisotropy.as_ref())
             .buffer("shaded_light", &lists.light)
             .texture("shade_accumulation", io.accumulation)
             .extend(self.light_bindings(cx, set, io.spot_textures[set])?);
