@@ -110,7 +110,7 @@ struct Params {
 #ifdef ANISOTROPY
 // View-space anisotropy direction (rgb) and strength (a), written by the
 // G-buffer resolve for pixels of Anisotropy materials only.
-@group(0) @binding(12) var anisotropy_target: texture_2d<f32>;
+@group(0) @binding(13) var anisotropy_target: texture_2d<f32>;
 #endif
 #ifdef CLEARCOAT
 // The coat's own normal at `pixel` (its map's, else `n`), facing the viewer.

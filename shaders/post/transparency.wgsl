@@ -190,15 +190,15 @@
 #ifdef SHEEN
 #ifdef MATERIALS
 // The fragment's sheen parameters (a light or recording base pass of a
-// layer whose world has a Sheen material).
+// layer whose world has a Sheen material), scaled by its maps.
 #import spreadlight::material::FEATURE_SHEEN
+#ifdef EXTENSION_MAPS
+#import spreadlight::material_maps::mapped_sheen
+#endif
 #endif
 #ifdef LIGHT_PASS
 // The shaded fragment's sheen, summed by the light function as the coat is.
 #import spreadlight::forward_light::{sheen_color, sheen_roughness, sheen_sum, sheened_specular}
-#ifdef EXTENSION_MAPS
-#import spreadlight::material_maps::mapped_sheen
-#endif
 // The shaded fragment's film (a light pass of a layer whose world has an
 // Iridescence material), whose diffuse light the light function sums.
 #import spreadlight::material::iridescence_at
