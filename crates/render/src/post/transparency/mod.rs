@@ -48,6 +48,7 @@ pub mod transmission;
 use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
+use smallvec::SmallVec;
 
 pub use compute::TransparencyShading;
 pub use key::{
@@ -649,6 +650,80 @@ impl Transparency {
         (key, world)
     }
 
+    /// A layer's accumulation draws (its instances `range`), as
+    /// [`Self::accumulate`] records them and the pass announces their
+    /// pipelines: per culling variant its draws use (glTF materials, surface
+    /// maps, cull back faces unless double-sided, as other viewers draw
+    /// them; patch-built layers show both faces: a glass shell's back
+    /// through its front), each pass (the base pass, then a light pass per
+    /// light buffer `set`) with its permutation.
+    fn layer_passes(&self, layer: &Layer, range: (u32, u32)) -> SmallVec<[LayerPass; 4]> {
+        let mut passes = SmallVec::new();
+        if range.0 == range.1 {
+            return passes;
+        }
+        let (surface, world) = self.surface(layer);
+        let surface_maps = surface.maps.is_surface();
+        let transmits = self.transmits(world);
+        for culled in [true, false] {
+            let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
+            let culls = |d: &Draw| surface_maps && !d.two_sided;
+            if !self
+                .draws
+                .iter()
+                .filter(in_layer)
+                .any(|d| culls(d) == culled)
+            {
+                continue;
+            }
+            for (pass, set) in self
+                .passes(Self::matcap(world), transmits)
+                .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
+            {
+                let key = TransparencyKey {
+                    surface,
+                    pass,
+                    coat: Self::coat(world, pass),
+                    anisotropy: Self::anisotropy(surface, world, pass),
+                    sheen: Self::sheen(world, pass),
+                }
+                .key();
+                passes.push((culled, pass, set, key));
+            }
+        }
+        passes
+    }
+
+    /// Announce the accumulation's pipelines (frame_graph/gather.rs): the
+    /// layers' render pipelines, the clear and, shaded in compute, each
+    /// light buffer's shade, as the pass will look them up.
+    fn announce_accumulation(&self, pass: &mut crate::frame_graph::PassBuilder<'_, '_>) {
+        pass.will_dispatch(&TransparencyKey::COMPOSITE.key(), "clear");
+        for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
+            for (culled, kind, _, key) in self.layer_passes(layer, *range) {
+                let (variant, build) = accumulate_build(culled, kind);
+                pass.will_render(&key, variant, Arc::new(build));
+            }
+        }
+        // The froxel lists of clustered light buffers, where the base pass marked.
+        if self.lights.iter().any(|set| set.clusters.is_some()) {
+            crate::lighting::announce_assignment(pass, true);
+        }
+        if self.compute {
+            for light in self.light_keys() {
+                let kind = self.shade_pass(light);
+                let key = TransparencyKey {
+                    surface: TransparencyKey::COMPOSITE.surface,
+                    pass: kind,
+                    coat: self.coated(),
+                    anisotropy: false,
+                    sheen: false,
+                };
+                pass.will_dispatch(&key.key(), shade_entry(kind));
+            }
+        }
+    }
+
     fn accumulate(
         &self,
         renderer: &Renderer,
@@ -706,33 +781,8 @@ impl Transparency {
             let (surface, world) = self.surface(layer);
             let surface_maps = surface.maps.is_surface();
             refracting += u64::from(self.transmits(world));
-            // glTF materials (surface maps): back faces culled unless
-            // double-sided, as other viewers draw them; patch-built layers
-            // show both faces (a glass shell's back through its front).
-            for culled in [true, false] {
-                let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
-                let culls = |d: &Draw| surface_maps && !d.two_sided;
-                if !self
-                    .draws
-                    .iter()
-                    .filter(in_layer)
-                    .any(|d| culls(d) == culled)
-                {
-                    continue;
-                }
-                let transmits = self.transmits(world);
-                for (pass, set) in self
-                    .passes(Self::matcap(world), transmits)
-                    .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
-                {
-                    let key = TransparencyKey {
-                        surface,
-                        pass,
-                        coat: Self::coat(world, pass),
-                        anisotropy: Self::anisotropy(surface, world, pass),
-                        sheen: Self::sheen(world, pass),
-                    }
-                    .key();
+            let transmits = self.transmits(world);
+            for (culled, pass, set, key) in self.layer_passes(layer, *range) {
                     let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
                     let mut b = mesh_bindings(&vertices, &indices, &self.instances)
                         .buffer("camera", self.gbuffer.camera_buffer())
@@ -816,7 +866,6 @@ impl Transparency {
                         pipeline,
                         groups,
                     ));
-                }
             }
         }
         drop(guards);
@@ -923,10 +972,7 @@ impl Transparency {
                 message: format!("no light buffer {set} to shade"),
             })?;
         let pass = self.shade_pass(light);
-        let entry = match pass {
-            TransparencyPass::ShadeTiled(_) => "shade_tiled",
-            _ => "shade",
-        };
+        let entry = shade_entry(pass);
         let key = TransparencyKey {
             surface: TransparencyKey::COMPOSITE.surface,
             pass,
@@ -1136,9 +1182,20 @@ struct ResolveIo {
     output: Tex,
 }
 
+/// A layer's accumulation draw: culled or not, its pass, the light buffer
+/// of a light pass, and its permutation ([`Transparency::layer_passes`]).
+type LayerPass = (bool, TransparencyPass, Option<usize>, ShaderKey);
+
+/// The compute shading's entry point for a shade `pass`.
+fn shade_entry(pass: TransparencyPass) -> &'static str {
+    match pass {
+        TransparencyPass::ShadeTiled(_) => "shade_tiled",
+        _ => "shade",
+    }
+}
+
 /// The accumulation pipeline of one permutation, back faces culled when
-/// `culled`. The base pass adds (premultiplied colour, alpha) and
-/// multiplies the revealage; a light pass adds to the colour alone.
+/// `culled`.
 fn accumulate_pipeline(
     cx: &mut PassContext<'_>,
     key: ShaderKey,
@@ -1146,6 +1203,27 @@ fn accumulate_pipeline(
     pass: TransparencyPass,
 ) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
+    let (variant, build) = accumulate_build(culled, pass);
+    cx.shaders
+        .render_pipeline(&device, &key, variant, |module, cache| {
+            build(&device, module, cache)
+        })
+}
+
+/// The accumulation pipeline's variant name and how it is built (by the
+/// pass, or on a thread where the pass announced it): back faces culled
+/// when `culled`. The base pass adds (premultiplied colour, alpha) and
+/// multiplies the revealage; a light pass adds to the colour alone.
+fn accumulate_build(
+    culled: bool,
+    pass: TransparencyPass,
+) -> (
+    &'static str,
+    impl Fn(&wgpu::Device, &wgpu::ShaderModule, Option<&wgpu::PipelineCache>) -> wgpu::RenderPipeline
+    + Send
+    + Sync
+    + 'static,
+) {
     let lit = matches!(pass, TransparencyPass::Light(_));
     let variant = match (culled, lit) {
         (true, false) => "wboit, culled",
@@ -1153,60 +1231,62 @@ fn accumulate_pipeline(
         (true, true) => "wboit light, culled",
         (false, true) => "wboit light",
     };
-    cx.shaders
-        .render_pipeline(&device, &key, variant, |module, cache| {
-            let additive = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let reveal = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::OneMinusSrc,
-                operation: wgpu::BlendOperation::Add,
-            };
-            pulled_pipeline(
-                &device,
-                module,
-                cache,
-                "transparency accumulate",
-                wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: culled.then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                None,
-                &[
-                    Some(wgpu::ColorTargetState {
-                        format: ACCUMULATION,
-                        blend: Some(wgpu::BlendState {
-                            color: additive,
-                            alpha: additive,
-                        }),
-                        // A light pass adds colour; the weight sum (alpha) is the base pass's.
-                        write_mask: if lit {
-                            wgpu::ColorWrites::COLOR
-                        } else {
-                            wgpu::ColorWrites::ALL
-                        },
+    let build = move |device: &wgpu::Device,
+                      module: &wgpu::ShaderModule,
+                      cache: Option<&wgpu::PipelineCache>| {
+        let additive = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let reveal = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::Zero,
+            dst_factor: wgpu::BlendFactor::OneMinusSrc,
+            operation: wgpu::BlendOperation::Add,
+        };
+        pulled_pipeline(
+            device,
+            module,
+            cache,
+            "transparency accumulate",
+            wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: culled.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            None,
+            &[
+                Some(wgpu::ColorTargetState {
+                    format: ACCUMULATION,
+                    blend: Some(wgpu::BlendState {
+                        color: additive,
+                        alpha: additive,
                     }),
-                    Some(wgpu::ColorTargetState {
-                        format: REVEALAGE,
-                        blend: Some(wgpu::BlendState {
-                            color: reveal,
-                            alpha: reveal,
-                        }),
-                        // Only red is read, and only the base pass covers.
-                        write_mask: if lit {
-                            wgpu::ColorWrites::empty()
-                        } else {
-                            wgpu::ColorWrites::RED
-                        },
+                    // A light pass adds colour; the weight sum (alpha) is the base pass's.
+                    write_mask: if lit {
+                        wgpu::ColorWrites::COLOR
+                    } else {
+                        wgpu::ColorWrites::ALL
+                    },
+                }),
+                Some(wgpu::ColorTargetState {
+                    format: REVEALAGE,
+                    blend: Some(wgpu::BlendState {
+                        color: reveal,
+                        alpha: reveal,
                     }),
-                ],
-            )
-        })
+                    // Only red is read, and only the base pass covers.
+                    write_mask: if lit {
+                        wgpu::ColorWrites::empty()
+                    } else {
+                        wgpu::ColorWrites::RED
+                    },
+                }),
+            ],
+        )
+    };
+    (variant, build)
 }
 
 impl Recipe for Transparency {
@@ -1339,10 +1419,10 @@ impl Recipe for Transparency {
             spot_textures,
             grid,
         };
-        // The compute pipelines of the clear and the resolve, made on threads
-        // on a first frame (frame_graph/gather.rs).
+        // The pipelines of the draws, the clear and the compute shading,
+        // made on threads on a first frame (frame_graph/gather.rs).
         if pass.graph().gathers_pipelines() {
-            pass.will_dispatch(&TransparencyKey::COMPOSITE.key(), "clear");
+            self.announce_accumulation(&mut pass);
         }
         pass.run(move |cx| self.accumulate(renderer, cx, &io));
         let mut pass = fg.pass(name("resolve"), self.owner);
