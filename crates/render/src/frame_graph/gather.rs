@@ -43,6 +43,16 @@ use crate::shaders::{GeneratedKey, ShaderKey};
 /// A pipeline announced for the pass named so, of that owner.
 pub(super) type IfRun = (PassName, Option<u32>, Job);
 
+/// A pipeline of the pass named so, of that owner, whose entry point
+/// follows which of its outputs (texture names) the frame reads.
+pub(super) struct IfRead {
+    pass: PassName,
+    owner: Option<u32>,
+    key: ShaderKey,
+    outputs: smallvec::SmallVec<[String; 2]>,
+    entry: fn(&[bool]) -> &'static str,
+}
+
 /// Whether frames announce their pipelines (process-wide: a hint, never a
 /// correctness matter: a frame that does not announce makes its pipelines as
 /// it records).
@@ -103,6 +113,33 @@ impl FrameGraph<'_> {
         }
     }
 
+    /// Like [`Self::will_dispatch_if_run`], for a pass whose entry point
+    /// follows which of `outputs` (the textures it writes) the frame reads:
+    /// `entry` picks it from those reads, in order, as the pass's run does.
+    pub fn will_dispatch_by_reads(
+        &mut self,
+        pass: PassName,
+        owner: Option<u32>,
+        key: &ShaderKey,
+        outputs: &[&str],
+        entry: fn(&[bool]) -> &'static str,
+    ) {
+        if GATHERING.load(Ordering::Relaxed) {
+            self.pipelines_if_read.push(IfRead {
+                pass,
+                owner,
+                key: key.clone(),
+                outputs: outputs.iter().map(|o| (*o).to_owned()).collect(),
+                entry,
+            });
+        }
+    }
+
+    /// The pipelines announced by the outputs read, taken.
+    pub(super) fn take_pipelines_if_read(&mut self) -> Vec<IfRead> {
+        std::mem::take(&mut self.pipelines_if_read)
+    }
+
     /// The pipelines announced, taken (the executor hands them to threads).
     pub(super) fn take_pipelines(&mut self) -> Vec<Job> {
         std::mem::take(&mut self.pipelines)
@@ -124,5 +161,26 @@ pub(super) fn run_by(plan: &Plan, announced: Vec<IfRun>) -> Vec<Job> {
                 .any(|&p| plan.labels.get(p) == Some(pass) && plan.owners.get(p) == Some(owner))
         })
         .map(|(_, _, job)| job)
+        .collect()
+}
+
+/// Of `announced`, the pipelines of the passes `plan` runs, each's entry
+/// point picked by which of its outputs a later pass reads or the frame
+/// requested (`PassContext::is_read`).
+pub(super) fn read_by(plan: &Plan, announced: Vec<IfRead>) -> Vec<Job> {
+    announced
+        .into_iter()
+        .filter_map(|a| {
+            let step = plan.order.iter().position(|&p| {
+                plan.labels.get(p) == Some(&a.pass) && plan.owners.get(p) == Some(&a.owner)
+            })?;
+            let reads: smallvec::SmallVec<[bool; 2]> = (a.outputs.iter())
+                .map(|name| {
+                    plan.requested_set.contains(name)
+                        || plan.last_use.get(name).is_some_and(|&s| s > step)
+                })
+                .collect();
+            Some(PipelineId::entry(&a.key, (a.entry)(&reads)).into())
+        })
         .collect()
 }

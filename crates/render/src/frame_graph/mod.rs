@@ -400,6 +400,8 @@ pub struct FrameGraph<'a> {
     pipelines: Vec<crate::shaders::pipelines_ahead::Job>,
     /// Those announced for a pass that may be culled or merged (gather.rs).
     pipelines_if_run: Vec<gather::IfRun>,
+    /// Those whose entry point follows which outputs are read (gather.rs).
+    pipelines_if_read: Vec<gather::IfRead>,
 }
 
 thread_local! {
@@ -426,6 +428,7 @@ impl<'a> FrameGraph<'a> {
             merges: Vec::new(),
             pipelines: Vec::new(),
             pipelines_if_run: Vec::new(),
+            pipelines_if_read: Vec::new(),
         }
     }
 
