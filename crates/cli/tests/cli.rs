@@ -1271,7 +1271,11 @@ fn generated_light_sets_and_render_pipelines_are_made_ahead_on_a_first_and_a_sec
     assert!(first["pipelines_ahead"].is_null(), "no list yet: {first}");
     let compiled = first["pipelines_compiled"].as_u64().expect("a count");
     let gathered = &first["pipelines_gathered"];
-    assert_eq!(count(gathered, "listed"), compiled, "all announced: {first}");
+    assert_eq!(
+        count(gathered, "listed"),
+        compiled,
+        "all announced: {first}"
+    );
     assert_eq!(count(gathered, "failed"), 0, "{first}");
     assert_eq!(
         count(gathered, "taken") + count(gathered, "waited") + count(gathered, "claimed"),
@@ -1344,7 +1348,8 @@ fn generated_light_sets_and_render_pipelines_are_made_ahead_on_a_first_and_a_sec
 
     // Stale: a generator this build lacks (skipped), a group its generator
     // refuses (composed and made by nobody: failed, never an error).
-    let stale = format!("{text}generated\tno_such_generator\t\t\ngenerated\tlight_sets\tLIGHT_SUN\n");
+    let stale =
+        format!("{text}generated\tno_such_generator\t\t\ngenerated\tlight_sets\tLIGHT_SUN\n");
     std::fs::write(&list, stale).expect("make it stale");
     let (stale, stale_image, stderr) = run("stale.png", "fused");
     let precomposed = &stale["precompose"];
@@ -1359,5 +1364,8 @@ fn generated_light_sets_and_render_pipelines_are_made_ahead_on_a_first_and_a_sec
 
     // The same picture as a pass per light set.
     let (_, separate_image, _) = run("separate.png", "separate");
-    assert_eq!(first_image, separate_image, "fused, the bytes of separate passes");
+    assert_eq!(
+        first_image, separate_image,
+        "fused, the bytes of separate passes"
+    );
 }

@@ -146,7 +146,10 @@ pub fn parse(text: &str) -> Result<List, String> {
     let mut list = List::default();
     let mut seen = std::collections::HashSet::new();
     for (i, line) in lines.enumerate() {
-        if let Some(rest) = line.strip_prefix(GENERATED).and_then(|r| r.strip_prefix('\t')) {
+        if let Some(rest) = line
+            .strip_prefix(GENERATED)
+            .and_then(|r| r.strip_prefix('\t'))
+        {
             match generated_of(rest) {
                 Some(key) if list.pipelines.len() < MOST => {
                     if !list.generated.contains(&key) {
@@ -182,7 +185,8 @@ pub fn parse(text: &str) -> Result<List, String> {
         if let Some(entry) = entry
             && list.pipelines.len() < MOST
         {
-            list.pipelines.push(PipelineId::Entry(key, entry.to_owned()));
+            list.pipelines
+                .push(PipelineId::Entry(key, entry.to_owned()));
         }
     }
     Ok(list)

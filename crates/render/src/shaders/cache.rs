@@ -941,11 +941,8 @@ impl ShaderCache {
         let cache = self.pipeline_cache.as_ref();
         let pipeline = timed(&mut self.compile_times.pipelines, || build(&module, cache));
         self.pipelines_compiled += 1;
-        self.made_here.push(format!(
-            "{}{} ({variant})",
-            key.path(),
-            key.describe_defs()
-        ));
+        self.made_here
+            .push(format!("{}{} ({variant})", key.path(), key.describe_defs()));
         self.render
             .entry(key.clone())
             .or_default()

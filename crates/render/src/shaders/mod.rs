@@ -86,10 +86,10 @@ mod uniform;
 
 pub(crate) use cache::compute_pipeline_of;
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
-pub(crate) use composer::{embedded_generated_or_wait, embedded_module};
 #[cfg(test)]
 pub(crate) use composer::is_composed;
 pub use composer::{ShaderComposer, Splice};
+pub(crate) use composer::{embedded_generated_or_wait, embedded_module};
 pub use generated::{GeneratedKey, Generator};
 pub use permutation::{Permutation, ShaderFile, ShaderKey};
 pub(crate) use reflection::INLINE_BINDINGS;

@@ -381,11 +381,11 @@ impl ShadowMaps {
             });
         };
         let key = ShadowDepthKey.key();
-        let pipeline = cx
-            .shaders
-            .render_pipeline(&device, &key, DEPTH_VARIANT, |module, cache| {
-                depth_pipeline(&device, module, cache)
-            })?;
+        let pipeline =
+            cx.shaders
+                .render_pipeline(&device, &key, DEPTH_VARIANT, |module, cache| {
+                    depth_pipeline(&device, module, cache)
+                })?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let mut work = Vec::new();
         for job in jobs {

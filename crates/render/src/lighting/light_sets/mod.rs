@@ -438,9 +438,9 @@ fn shade(
         bindings = bindings.extend(set.renamed(rename, i == 0));
     }
     let device = cx.gpu.device.clone();
-    let (pipeline, reflection) =
-        cx.shaders
-            .generated_pipeline(&device, hasher.finish(), || generated_key(members))?;
+    let (pipeline, reflection) = cx
+        .shaders
+        .generated_pipeline(&device, hasher.finish(), || generated_key(members))?;
     let label = "CookTorrance: shade light sets";
     let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;
     let groups: smallvec::SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();

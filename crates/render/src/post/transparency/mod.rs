@@ -657,7 +657,7 @@ impl Transparency {
     /// them; patch-built layers show both faces: a glass shell's back
     /// through its front), each pass (the base pass, then a light pass per
     /// light buffer `set`) with its permutation.
-    fn layer_passes(&self, layer: &Layer, range: (u32, u32)) -> SmallVec<[LayerPass; 4]> {
+    fn layer_passes(&self, layer: &Layer, range: (u32, u32)) -> SmallVec<[LayerPass; 8]> {
         let mut passes = SmallVec::new();
         if range.0 == range.1 {
             return passes;
@@ -780,92 +780,92 @@ impl Transparency {
             }
             let (surface, world) = self.surface(layer);
             let surface_maps = surface.maps.is_surface();
-            refracting += u64::from(self.transmits(world));
             let transmits = self.transmits(world);
+            refracting += u64::from(transmits);
             for (culled, pass, set, key) in self.layer_passes(layer, *range) {
-                    let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
-                    let mut b = mesh_bindings(&vertices, &indices, &self.instances)
-                        .buffer("camera", self.gbuffer.camera_buffer())
-                        .texture("opaque_depth", io.depth)
-                        .buffer("params", &self.params)
-                        .buffer_opt("extras", surface.vertex_extras.then_some(&extras));
-                    if let Some(world) = world {
-                        b = b.extend(world.bindings(None));
-                        if surface_maps && let Some(maps) = world.maps_bindings() {
-                            b = b.extend(maps);
-                        }
+                let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
+                let mut b = mesh_bindings(&vertices, &indices, &self.instances)
+                    .buffer("camera", self.gbuffer.camera_buffer())
+                    .texture("opaque_depth", io.depth)
+                    .buffer("params", &self.params)
+                    .buffer_opt("extras", surface.vertex_extras.then_some(&extras));
+                if let Some(world) = world {
+                    b = b.extend(world.bindings(None));
+                    if surface_maps && let Some(maps) = world.maps_bindings() {
+                        b = b.extend(maps);
                     }
-                    if let Some(normal) = maps.normal {
+                }
+                if let Some(normal) = maps.normal {
+                    b = b
+                        .texture("normal_map", normal)
+                        .sampler("normal_sampler", Sampling::LinearRepeat);
+                }
+                if let Some(color) = maps.color {
+                    b = b
+                        .texture("color_map", color)
+                        .sampler("color_sampler", Sampling::LinearRepeat);
+                }
+                if let (None, Some(images)) = (set, maps.matcap) {
+                    // Clamped: the rim of a matcap must not wrap to the far side.
+                    b = b
+                        .array("matcap_images", images)
+                        .sampler("matcap_sampler", Sampling::LinearClamp);
+                }
+                if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
+                    b = b.buffer("grid", grid).buffer("froxel_marks", marks);
+                }
+                if let (None, Some(lists)) = (set, &lists) {
+                    b = b
+                        .buffer("fragment_counts", &lists.counts)
+                        .buffer("fragment_records", &lists.records)
+                        .buffer_opt("coat_records", lists.coat.as_ref());
+                }
+                match (set, transmits, io.lit, &mips) {
+                    // The chain's levels, read trilinearly (RefractionKey::Mips).
+                    (None, true, _, Some((chain, sampler))) => {
                         b = b
-                            .texture("normal_map", normal)
-                            .sampler("normal_sampler", Sampling::LinearRepeat);
+                            .view("refraction_mips", cx.view_of(chain, ViewSpec::default()))
+                            .sampler_object("refraction_sampler", sampler.clone());
                     }
-                    if let Some(color) = maps.color {
+                    // Sampled by hand and clamped (RefractionKey::Taps).
+                    (None, true, Some(lit), None) => b = b.texture("lit_opaque", lit),
+                    _ => {}
+                }
+                if let (None, Some(environment)) = (set, &self.environment) {
+                    let maps = environment.maps_for("transparency")?;
+                    b = b
+                        .view(
+                            "prefiltered",
+                            cx.view_of(&maps.prefiltered, ViewSpec::cube()),
+                        )
+                        .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
+                        .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
+                        .sampler_object("cube_sampler", maps.sampler.clone());
+                }
+                if let Some(set) = set {
+                    b = b.extend(self.light_bindings(cx, set, io.spot_textures[set])?);
+                    if let Some((guard, grid)) = &guards[set] {
+                        let Some(lists) = guard.as_ref() else {
+                            continue;
+                        };
                         b = b
-                            .texture("color_map", color)
-                            .sampler("color_sampler", Sampling::LinearRepeat);
+                            .buffer("grid", grid)
+                            .buffer("light_counts", &lists.counts)
+                            .buffer("light_offsets", &lists.offsets)
+                            .buffer("light_indices", &lists.indices);
                     }
-                    if let (None, Some(images)) = (set, maps.matcap) {
-                        // Clamped: the rim of a matcap must not wrap to the far side.
-                        b = b
-                            .array("matcap_images", images)
-                            .sampler("matcap_sampler", Sampling::LinearClamp);
-                    }
-                    if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
-                        b = b.buffer("grid", grid).buffer("froxel_marks", marks);
-                    }
-                    if let (None, Some(lists)) = (set, &lists) {
-                        b = b
-                            .buffer("fragment_counts", &lists.counts)
-                            .buffer("fragment_records", &lists.records)
-                            .buffer_opt("coat_records", lists.coat.as_ref());
-                    }
-                    match (set, transmits, io.lit, &mips) {
-                        // The chain's levels, read trilinearly (RefractionKey::Mips).
-                        (None, true, _, Some((chain, sampler))) => {
-                            b = b
-                                .view("refraction_mips", cx.view_of(chain, ViewSpec::default()))
-                                .sampler_object("refraction_sampler", sampler.clone());
-                        }
-                        // Sampled by hand and clamped (RefractionKey::Taps).
-                        (None, true, Some(lit), None) => b = b.texture("lit_opaque", lit),
-                        _ => {}
-                    }
-                    if let (None, Some(environment)) = (set, &self.environment) {
-                        let maps = environment.maps_for("transparency")?;
-                        b = b
-                            .view(
-                                "prefiltered",
-                                cx.view_of(&maps.prefiltered, ViewSpec::cube()),
-                            )
-                            .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
-                            .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
-                            .sampler_object("cube_sampler", maps.sampler.clone());
-                    }
-                    if let Some(set) = set {
-                        b = b.extend(self.light_bindings(cx, set, io.spot_textures[set])?);
-                        if let Some((guard, grid)) = &guards[set] {
-                            let Some(lists) = guard.as_ref() else {
-                                continue;
-                            };
-                            b = b
-                                .buffer("grid", grid)
-                                .buffer("light_counts", &lists.counts)
-                                .buffer("light_offsets", &lists.offsets)
-                                .buffer("light_indices", &lists.indices);
-                        }
-                    }
-                    // Through the cache: the camera, meshes, kept instances,
-                    // parameters and lights are the same buffers from frame to frame.
-                    let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
-                    work.push((
-                        *range,
-                        culled,
-                        surface_maps,
-                        set.is_some(),
-                        pipeline,
-                        groups,
-                    ));
+                }
+                // Through the cache: the camera, meshes, kept instances,
+                // parameters and lights are the same buffers from frame to frame.
+                let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
+                work.push((
+                    *range,
+                    culled,
+                    surface_maps,
+                    set.is_some(),
+                    pipeline,
+                    groups,
+                ));
             }
         }
         drop(guards);
