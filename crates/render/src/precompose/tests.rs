@@ -148,7 +148,7 @@ fn generated_shaders_read_back_and_unknown_generators_or_parts_are_skipped() {
     );
     let list = parse(&text).expect("a list");
     assert_eq!(list.pipelines, pipelines);
-    assert_eq!(list.generated, [fused.clone()]);
+    assert_eq!(list.generated, std::slice::from_ref(&fused));
     assert_eq!((list.keys.len(), list.unknown), (1, 0));
     let stale = format!(
         "{text}generated\tno_such_generator\tLIGHT_SUN\tLIGHT_SPOT\n\

@@ -231,7 +231,7 @@ impl PipelinesAhead {
         let mut slots = locked(&self.shared.slots);
         let mut waited = None;
         loop {
-            match slots.get(&id) {
+            match slots.get(id) {
                 None | Some(Slot::Failed) => return None,
                 Some(Slot::Queued) => {
                     slots.insert(id.clone(), Slot::Failed);
