@@ -680,13 +680,12 @@ impl ShaderCache {
     }
 
     /// The permutations compiled so far (tests check a feature no scene uses
-    /// never is): a module made here, or a pipeline made for this cache on
-    /// a thread ahead of its look-up (`crate::shaders::pipelines_ahead`), which
-    /// leaves no module here.
+    /// never is): a module made here, or a compute or render pipeline made
+    /// for this cache on a thread ahead of its look-up
+    /// (`crate::shaders::pipelines_ahead`), which leaves no module here.
     pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
         self.modules.keys().chain(
-            self.compute
-                .keys()
+            (self.compute.keys().chain(self.render.keys()))
                 .filter(|key| !self.modules.contains_key(*key)),
         )
     }
