@@ -82,7 +82,7 @@ pub struct Args {
     /// Shade the CookTorrance nodes of one G-buffer in one dispatch
     /// (`fused`), a pass each (`separate`), or `auto` (fused on a GPU):
     /// docs/benchmarks.md, "Light sets in one dispatch". Unset: what
-    /// SPREADLIGHT_LIGHT_FUSION says, else `separate`.
+    /// SPREADLIGHT_LIGHT_FUSION says, else `auto`.
     #[arg(long, value_parser = ["separate", "fused", "auto"])]
     light_fusion: Option<String>,
     /// Where light sets fuse, sum them for CompositeLight (`on`: one pair

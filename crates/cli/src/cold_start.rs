@@ -44,6 +44,9 @@ pub struct ColdStart {
     /// (the rest were made on threads ahead of it).
     pub pipelines: u64,
     pub pipelines_at_frame: u64,
+    /// Those it made itself, by label (permutation and entry point, or a
+    /// render pipeline's variant): what no list or announcement covered.
+    pub made_at_frame: Vec<String>,
     /// The pipeline cache file and the bytes read from it (None: the device
     /// keeps none, pipeline_cache.rs).
     pub pipeline_cache: Option<(std::path::PathBuf, usize)>,
@@ -58,9 +61,9 @@ pub struct ColdStart {
 impl ColdStart {
     /// Measured now, just after the first frame, which took `first_frame` seconds.
     pub fn now(session: &Session, first_frame: f64) -> ColdStart {
-        let (compile, pipelines, at_frame, ahead, gathered) =
+        let (compile, pipelines, at_frame, ahead, gathered, made_at_frame) =
             session.renderer.as_ref().map_or_else(
-                || (CompileTimes::default(), 0, 0, None, None),
+                || (CompileTimes::default(), 0, 0, None, None, Vec::new()),
                 |r| {
                     let shaders = r.shaders();
                     (
@@ -69,6 +72,7 @@ impl ColdStart {
                         shaders.pipelines_compiled - shaders.pipelines_taken_ahead,
                         shaders.pipelines_ahead(),
                         shaders.pipelines_gathered(),
+                        shaders.made_here.clone(),
                     )
                 },
             );
@@ -89,6 +93,7 @@ impl ColdStart {
             compile,
             pipelines,
             pipelines_at_frame: at_frame,
+            made_at_frame,
             ahead,
             gathered,
         }
@@ -155,6 +160,7 @@ impl ColdStart {
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
             "pipelines_compiled": self.pipelines,
             "pipelines_at_frame": self.pipelines_at_frame,
+            "made_at_frame": self.made_at_frame,
             "pipelines_ahead": self.ahead.map(counts),
             "pipelines_gathered": self.gathered.map(counts),
             "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({

@@ -15,7 +15,7 @@ use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
 use spreadlight_render::error::RenderError;
-use spreadlight_render::pipelines_ahead::{self, PipelineId, PipelinesAhead};
+use spreadlight_render::pipelines_ahead::{self, Job, PipelineId, PipelinesAhead};
 use spreadlight_render::precompose::{self, Precomposed};
 
 pub struct Session {
@@ -72,8 +72,8 @@ fn start_precompose(path: &Path) -> Option<Ahead> {
     }
     let list = permutation_list(path);
     match precompose::read(&list) {
-        Ok(Some(list)) if !list.keys.is_empty() => Some(Ahead {
-            composing: precompose::start(list.keys, precompose::threads()),
+        Ok(Some(list)) if !list.keys.is_empty() || !list.generated.is_empty() => Some(Ahead {
+            composing: precompose::start(list.keys, list.generated, precompose::threads()),
             pipelines: list.pipelines,
         }),
         Ok(_) => None,
@@ -284,7 +284,7 @@ impl Session {
                 let making = PipelinesAhead::start(
                     gpu.device.clone(),
                     gpu.pipeline_cache().cloned(),
-                    ahead.pipelines.clone(),
+                    ahead.pipelines.iter().cloned().map(Job::from).collect(),
                     precompose::threads(),
                 );
                 renderer.shaders().set_pipelines_ahead(making.clone());

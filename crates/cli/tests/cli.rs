@@ -1219,3 +1219,153 @@ fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_re
     let rewritten = std::fs::read_to_string(&list).expect("written anew");
     assert_eq!(rewritten, text, "written anew as the first run wrote it");
 }
+
+/// The cold start's lists name what is not a file's permutation too:
+/// environment-probe.ron with its light sets fused (a sun with a shadow map
+/// and a point light: one generated shader) draws its shadow map, its
+/// probe's faces and (on lavapipe) its G-buffer with render pipelines. On a
+/// first run every pipeline its frame needs is announced by the pass that
+/// uses it (the generated shader and the render pipelines included) and
+/// made on threads; the list names the generated shader, so the second run
+/// composes it and creates its pipeline ahead with the others, and the
+/// frame makes none itself but those it asked for before a thread began
+/// them. A stale generated entry (a generator this build lacks, a group
+/// its generator refuses) is skipped, and the bytes are those of separate
+/// passes.
+#[test]
+fn generated_light_sets_and_render_pipelines_are_made_ahead_on_a_first_and_a_second_run() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let cache = dir.path().join("cache");
+    let cache_dir = cache.to_str().expect("utf-8 path");
+    let run = |name: &str, fusion: &str| {
+        let image = dir.path().join(name);
+        let image = image.to_str().expect("utf-8 path");
+        let env = [
+            ("SPREADLIGHT_CACHE_DIR", cache_dir),
+            ("SPREADLIGHT_PIPELINE_CACHE", "off"),
+            ("SPREADLIGHT_PIPELINES_AHEAD", "wait"),
+            ("SPREADLIGHT_LIGHT_FUSION", fusion),
+        ];
+        let args = [
+            "render",
+            "patches/environment-probe.ron",
+            "-o",
+            image,
+            "--size",
+            "32x18",
+            "--json",
+        ];
+        let out = spreadlight_env(&args, &env);
+        let stdout = text(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
+        let done: serde_json::Value = stdout
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .next_back()
+            .expect("a done line");
+        let bytes = std::fs::read(image).expect("image written");
+        (done["cold_start"].clone(), bytes, text(&out.stderr))
+    };
+    let count = |stats: &serde_json::Value, name: &str| stats[name].as_u64().unwrap_or(0);
+    let (first, first_image, _) = run("first.png", "fused");
+    assert!(first["pipelines_ahead"].is_null(), "no list yet: {first}");
+    let compiled = first["pipelines_compiled"].as_u64().expect("a count");
+    let gathered = &first["pipelines_gathered"];
+    assert_eq!(
+        count(gathered, "listed"),
+        compiled,
+        "all announced: {first}"
+    );
+    assert_eq!(count(gathered, "failed"), 0, "{first}");
+    assert_eq!(
+        count(gathered, "taken") + count(gathered, "waited") + count(gathered, "claimed"),
+        compiled,
+        "every announced pipeline used: {first}"
+    );
+    assert_eq!(
+        first["pipelines_at_frame"].as_u64(),
+        Some(count(gathered, "claimed")),
+        "the frame made none no pass announced: {first}"
+    );
+    let [list] = std::fs::read_dir(cache.join("permutations"))
+        .expect("a list folder")
+        .flatten()
+        .map(|e| e.path())
+        .collect::<Vec<_>>()
+        .try_into()
+        .expect("one list, the patch's");
+    let text = std::fs::read_to_string(&list).expect("a list");
+    let generated: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("generated\t"))
+        .collect();
+    assert!(
+        matches!(generated[..], [line] if line.starts_with("generated\tlight_sets\t")
+            && line.split('\t').count() == 4),
+        "the fused pair, by its two sets' permutations: {text}"
+    );
+    let entries = text.lines().filter(|l| l.split('\t').count() == 3).count() as u64;
+    let permutations = text.lines().filter(|l| l.split('\t').count() == 2).count() as u64;
+    // The frame's compute pipelines (the generated one among them); the
+    // rest are render pipelines, which a list never names.
+    let listed = entries + 1;
+    assert!(listed < compiled, "render pipelines too: {text}{first}");
+
+    let (second, second_image, _) = run("second.png", "fused");
+    let precomposed = &second["precompose"];
+    assert_eq!(count(precomposed, "listed"), permutations + 1, "{second}");
+    assert_eq!(count(precomposed, "composed"), permutations + 1, "{second}");
+    assert_eq!(second["permutations_composed"], 0, "{second}");
+    assert_eq!(
+        second["shader_libraries_ms"], 0.0,
+        "no composer made, not even for the generated shader: {second}"
+    );
+    let ahead = &second["pipelines_ahead"];
+    for (name, expected) in [
+        ("listed", listed),
+        ("created", listed),
+        ("taken", listed),
+        ("failed", 0),
+        ("claimed", 0),
+    ] {
+        assert_eq!(count(ahead, name), expected, "{name}: {second}");
+    }
+    // The render pipelines, announced again and made on threads.
+    let gathered = &second["pipelines_gathered"];
+    assert_eq!(count(gathered, "listed"), compiled - listed, "{second}");
+    assert_eq!(
+        count(gathered, "taken") + count(gathered, "waited") + count(gathered, "claimed"),
+        compiled - listed,
+        "{second}"
+    );
+    assert_eq!(
+        second["pipelines_at_frame"].as_u64(),
+        Some(count(gathered, "claimed")),
+        "{second}"
+    );
+    assert_eq!(second["pipelines_compiled"].as_u64(), Some(compiled));
+    assert_eq!(first_image, second_image, "made ahead, the same bytes");
+
+    // Stale: a generator this build lacks (skipped), a group its generator
+    // refuses (composed and made by nobody: failed, never an error).
+    let stale =
+        format!("{text}generated\tno_such_generator\t\t\ngenerated\tlight_sets\tLIGHT_SUN\n");
+    std::fs::write(&list, stale).expect("make it stale");
+    let (stale, stale_image, stderr) = run("stale.png", "fused");
+    let precomposed = &stale["precompose"];
+    assert_eq!(count(precomposed, "listed"), permutations + 2, "{stale}");
+    assert_eq!(count(precomposed, "composed"), permutations + 1, "{stale}");
+    let ahead = &stale["pipelines_ahead"];
+    assert_eq!(count(ahead, "listed"), listed + 1, "{stale}");
+    assert_eq!(count(ahead, "failed"), 1, "{stale}");
+    assert_eq!(count(ahead, "taken"), listed, "{stale}");
+    assert!(!stderr.contains("error"), "{stderr}");
+    assert_eq!(first_image, stale_image, "a stale list, the same bytes");
+
+    // The same picture as a pass per light set.
+    let (_, separate_image, _) = run("separate.png", "separate");
+    assert_eq!(
+        first_image, separate_image,
+        "fused, the bytes of separate passes"
+    );
+}

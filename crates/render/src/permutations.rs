@@ -6,7 +6,7 @@
 //! validates; the composite's 6,720 keys), and a test holds it against the
 //! `shaders/` folder, so a new effect's shader cannot be left out.
 
-use crate::shaders::{Permutation, ShaderFile, ShaderKey};
+use crate::shaders::{Generator, Permutation, ShaderFile, ShaderKey};
 
 /// Every entry shader, as its typed key declares it (the libraries are
 /// `shaders::LIBRARIES`).
@@ -58,6 +58,11 @@ pub const ENTRY_SHADERS: &[&ShaderFile] = &[
     <crate::resolution_key::UpsampleKey as Permutation>::FILE,
     <crate::gbuffer::view_key::Channel as Permutation>::FILE,
 ];
+
+/// Every generator of shaders made from the sources' text
+/// (`shaders/generated.rs`): what a permutation list's `generated` lines
+/// are read by (`crate::precompose`).
+pub static GENERATORS: &[&Generator] = &[&crate::lighting::light_sets::GENERATOR];
 
 /// Every permutation the shader set allows: each entry shader with each of
 /// its typed key's values.

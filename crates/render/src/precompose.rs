@@ -25,6 +25,12 @@
 //! (`crate::shaders::pipelines_ahead`), and the list's permutations are ordered so
 //! that theirs are composed first.
 //!
+//! And the generated shaders the frame dispatched (the fused light loop,
+//! `shaders/generated.rs`), by their generator's name and the permutations
+//! they are made of (list format 3): composed ahead here, first (each is
+//! several permutations' worth of composing), and their pipelines created
+//! ahead with the others.
+//!
 //! Where: `permutations/` in Spreadlight's cache directory
 //! ([`crate::pipeline_cache::cache_dir`]), one file per patch (by its
 //! path). `SPREADLIGHT_PRECOMPOSE=off` leaves it out.
@@ -41,15 +47,22 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::permutations::ENTRY_SHADERS;
+use crate::permutations::{ENTRY_SHADERS, GENERATORS};
 use crate::shaders::pipelines_ahead::PipelineId;
-use crate::shaders::{ShaderComposer, ShaderKey};
+use crate::shaders::{GeneratedKey, ShaderComposer, ShaderKey};
 
 /// The first line of a list (its format's version).
-const HEADER: &str = "spreadlight permutations 2";
+const HEADER: &str = "spreadlight permutations 3";
 
-/// The first line of a list an earlier build wrote: permutations only.
+/// The first lines of lists earlier builds wrote: permutations only (1),
+/// and compute pipelines of permutations (2).
 const HEADER_1: &str = "spreadlight permutations 1";
+const HEADER_2: &str = "spreadlight permutations 2";
+
+/// The first field of a generated shader's line.
+const GENERATED: &str = "generated";
+/// What begins a generated shader's last field when it holds its options.
+const OPTIONS: &str = "+";
 
 /// More than any patch composes; a longer list is cut there.
 const MOST: usize = 1024;
@@ -74,18 +87,41 @@ pub fn list_path(name: &str) -> PathBuf {
 /// A permutation's two fields: its shader's path, and its features
 /// separated by spaces, after a tab.
 fn key_text(key: &ShaderKey) -> String {
+    format!("{}\t{}", key.path(), features_text(key))
+}
+
+/// A permutation's features, separated by spaces.
+fn features_text(key: &ShaderKey) -> String {
     let features: Vec<&str> = key.features.iter().copied().collect();
-    format!("{}\t{}", key.path(), features.join(" "))
+    features.join(" ")
 }
 
 /// `keys` and `pipelines` as a list's text: a header, a line per compute
 /// pipeline in the order given (the frame's: `crate::shaders::pipelines_ahead`
 /// creates them in that order), its permutation's fields and its entry
-/// point after a second tab, then a line per permutation.
-pub fn to_text(keys: &[ShaderKey], pipelines: &[(ShaderKey, &str)]) -> String {
+/// point after a second tab, or for a generated shader `generated`, its
+/// generator's name and each part's features, a field each; then a line
+/// per permutation. Render pipelines are not listed (their state is code).
+pub fn to_text(keys: &[ShaderKey], pipelines: &[PipelineId]) -> String {
     let mut text = format!("{HEADER}\n");
-    for (key, entry) in pipelines.iter().take(MOST) {
-        text.push_str(&format!("{}\t{entry}\n", key_text(key)));
+    for id in pipelines.iter().take(MOST) {
+        match id {
+            PipelineId::Entry(key, entry) => {
+                text.push_str(&format!("{}\t{entry}\n", key_text(key)));
+            }
+            PipelineId::Generated(generated) => {
+                text.push_str(&format!("{GENERATED}\t{}", generated.generator.name));
+                for part in &generated.parts {
+                    text.push_str(&format!("\t{}", features_text(part)));
+                }
+                // The generator's own switches, a last field behind `+`.
+                if !generated.options.is_empty() {
+                    text.push_str(&format!("\t{OPTIONS}{}", generated.options.join(" ")));
+                }
+                text.push('\n');
+            }
+            PipelineId::Render(..) => {}
+        }
     }
     for key in keys.iter().take(MOST) {
         text.push_str(&format!("{}\n", key_text(key)));
@@ -94,12 +130,14 @@ pub fn to_text(keys: &[ShaderKey], pipelines: &[(ShaderKey, &str)]) -> String {
 }
 
 /// A list read back: its permutations this build has (those of the
-/// pipelines first, in the pipelines' order), its compute pipelines, and
-/// how many lines named a permutation this build does not have (a shader or
-/// feature since removed).
+/// pipelines first, in the pipelines' order), its generated shaders, its
+/// compute pipelines (of permutations and of the generated shaders), and
+/// how many lines named a permutation or generator this build does not
+/// have (a shader, feature or generator since removed).
 #[derive(Debug, Default)]
 pub struct List {
     pub keys: Vec<ShaderKey>,
+    pub generated: Vec<GeneratedKey>,
     pub pipelines: Vec<PipelineId>,
     pub unknown: usize,
 }
@@ -108,12 +146,28 @@ pub struct List {
 pub fn parse(text: &str) -> Result<List, String> {
     let mut lines = text.lines();
     let version = lines.next();
-    if version != Some(HEADER) && version != Some(HEADER_1) {
+    if ![Some(HEADER), Some(HEADER_2), Some(HEADER_1)].contains(&version) {
         return Err(format!("its first line is not `{HEADER}`"));
     }
     let mut list = List::default();
     let mut seen = std::collections::HashSet::new();
     for (i, line) in lines.enumerate() {
+        if let Some(rest) = line
+            .strip_prefix(GENERATED)
+            .and_then(|r| r.strip_prefix('\t'))
+        {
+            match generated_of(rest) {
+                Some(key) if list.pipelines.len() < MOST => {
+                    if !list.generated.contains(&key) {
+                        list.generated.push(key.clone());
+                    }
+                    list.pipelines.push(PipelineId::Generated(key));
+                }
+                Some(_) => {}
+                None => list.unknown += 1,
+            }
+            continue;
+        }
         let mut fields = line.split('\t');
         let (Some(path), Some(features)) = (fields.next(), fields.next()) else {
             return Err(format!("line {}: not `PATH<tab>FEATURES`", i + 2));
@@ -137,10 +191,35 @@ pub fn parse(text: &str) -> Result<List, String> {
         if let Some(entry) = entry
             && list.pipelines.len() < MOST
         {
-            list.pipelines.push((key, entry.to_owned()));
+            list.pipelines
+                .push(PipelineId::Entry(key, entry.to_owned()));
         }
     }
     Ok(list)
+}
+
+/// The generated shader a line names after `generated<tab>`: its
+/// generator's name, then each part's features a field each; None where
+/// this build has no such generator or lacks a part's permutation.
+fn generated_of(fields: &str) -> Option<GeneratedKey> {
+    let mut fields = fields.split('\t');
+    let name = fields.next()?;
+    let generator = GENERATORS.iter().copied().find(|g| g.name == name)?;
+    let mut options = Vec::new();
+    let mut parts = Vec::new();
+    for field in fields {
+        match field.strip_prefix(OPTIONS) {
+            // Names only: a generator refuses options it does not know
+            // when it composes (left to the frame, as a refused group is).
+            Some(rest) => options.extend(rest.split_whitespace().map(str::to_owned)),
+            None => parts.push(key_of(generator.file.path, field)?),
+        }
+    }
+    Some(GeneratedKey {
+        generator,
+        parts,
+        options,
+    })
 }
 
 /// The permutation a line names, if this build's shaders allow it.
@@ -173,11 +252,7 @@ pub fn read(path: &Path) -> Result<Option<List>, String> {
 /// Write `keys` and `pipelines` to the list at `path`, through a temporary
 /// file and a rename (a run killed half-way leaves the old list). Unchanged
 /// text is not written again.
-pub fn remember(
-    path: &Path,
-    keys: &[ShaderKey],
-    pipelines: &[(ShaderKey, &str)],
-) -> std::io::Result<()> {
+pub fn remember(path: &Path, keys: &[ShaderKey], pipelines: &[PipelineId]) -> std::io::Result<()> {
     let text = to_text(keys, pipelines);
     if std::fs::read(path).is_ok_and(|old| old == text.as_bytes()) {
         return Ok(());
@@ -193,8 +268,8 @@ pub fn remember(
 /// What composing ahead did (`cold_start` of the CLI's `--json`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Precomposed {
-    /// Permutations in the list, and of them composed (the rest failed, or
-    /// were composed already).
+    /// Permutations and generated shaders in the list, and of them composed
+    /// (the rest failed, or were composed already).
     pub listed: usize,
     pub composed: usize,
     pub threads: usize,
@@ -209,18 +284,20 @@ pub struct Precomposing {
     handle: Option<JoinHandle<Precomposed>>,
 }
 
-/// Compose `keys` on up to `threads` threads (each with a composer of its
-/// own) in the background; what they compose joins the process's shared
-/// permutations, where every renderer over the embedded sources finds it.
-pub fn start(keys: Vec<ShaderKey>, threads: usize) -> Precomposing {
-    let threads = threads.clamp(1, keys.len().max(1));
+/// Compose `generated` and `keys` on up to `threads` threads (each with a
+/// composer of its own) in the background; what they compose joins the
+/// process's shared permutations and generated shaders, where every
+/// renderer over the embedded sources finds it.
+pub fn start(keys: Vec<ShaderKey>, generated: Vec<GeneratedKey>, threads: usize) -> Precomposing {
+    let listed = keys.len() + generated.len();
+    let threads = threads.clamp(1, listed.max(1));
     let spawned = std::thread::Builder::new()
         .name("precompose".to_owned())
         .spawn(move || {
             let started = Instant::now();
-            let composed = compose_all(&keys, threads);
+            let composed = compose_all(&keys, &generated, threads);
             Precomposed {
-                listed: keys.len(),
+                listed,
                 composed,
                 threads,
                 wall: started.elapsed(),
@@ -233,10 +310,11 @@ pub fn start(keys: Vec<ShaderKey>, threads: usize) -> Precomposing {
     }
 }
 
-/// Compose `keys` on `threads` scoped threads, each taking the next key not
-/// yet taken; returns how many composed. A permutation that fails is left
+/// Compose `generated` then `keys` on `threads` scoped threads, each
+/// taking the next not yet taken (the generated shaders first: each is the
+/// longest to compose); returns how many composed. One that fails is left
 /// for the renderer, which reports it where it is used.
-pub fn compose_all(keys: &[ShaderKey], threads: usize) -> usize {
+pub fn compose_all(keys: &[ShaderKey], generated: &[GeneratedKey], threads: usize) -> usize {
     let next = AtomicUsize::new(0);
     let composed = AtomicUsize::new(0);
     std::thread::scope(|scope| {
@@ -245,8 +323,16 @@ pub fn compose_all(keys: &[ShaderKey], threads: usize) -> usize {
                 let Ok(mut composer) = ShaderComposer::new() else {
                     return;
                 };
-                while let Some(key) = keys.get(next.fetch_add(1, Ordering::Relaxed)) {
-                    if composer.compose(key).is_ok() {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let done = if let Some(generated) = generated.get(i) {
+                        composer.generate(generated).is_ok()
+                    } else if let Some(key) = keys.get(i - generated.len()) {
+                        composer.compose(key).is_ok()
+                    } else {
+                        break;
+                    };
+                    if done {
                         composed.fetch_add(1, Ordering::Relaxed);
                     }
                 }

@@ -284,6 +284,12 @@ impl Recipe for Environment {
                 .map(|set| set.lights.textures().map(|t| pass.read(&t.name)))
                 .collect(),
         };
+        // A probe's faces' render pipelines (frame_graph/gather.rs).
+        if let (EnvironmentSource::Probe(scene), Some(packed)) = (&self.source, &self.probe)
+            && pass.graph().gathers_pipelines()
+        {
+            super::probe::faces::announce(&mut pass, scene, packed, &textures);
+        }
         if let Some(sun) = sun_shadow {
             pass.read(sun.maps.token());
         }

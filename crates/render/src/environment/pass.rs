@@ -199,7 +199,7 @@ impl Recipe for ImagePass {
         self.source.recipe.declare(renderer, fg);
         let name = PassName::new(self.kind.name());
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let mut pass = fg.pass(name, self.owner);
+        let mut pass = fg.pass(name.clone(), self.owner);
         if let Some(environment) = &self.environment {
             pass.read(environment.token());
         }
@@ -221,6 +221,13 @@ impl Recipe for ImagePass {
             pass.will_dispatch(&sky.kind.key(sky.environment.is_some(), true), "main");
         }
         pass.run(move |cx| self.record(cx, &io, None));
+        // Its own pipeline only where the plan runs it alone.
+        fg.will_dispatch_if_run(
+            name,
+            self.owner,
+            &self.kind.key(self.environment.is_some(), false),
+            "main",
+        );
         if let Some(inner) = self.over() {
             // Of both kinds; the report names both nodes (owner and partner).
             let both = PassName::new(format!("{} and {}", inner.kind.name(), self.kind.name()));

@@ -367,8 +367,6 @@ impl Recipe for Reflection {
                 None
             },
         };
-        // The pipeline of the usual case, both outputs read (frame_graph/gather.rs).
-        pass.will_dispatch(&self.key().key(), "both");
         pass.run(move |cx| {
             let specular = io.specular.is_some_and(|s| cx.is_read(s));
             let outputs = match (cx.is_read(io.diffuse), specular) {
@@ -378,5 +376,18 @@ impl Recipe for Reflection {
             };
             self.run(cx, outputs, &io)
         });
+        // Its pipeline, by the outputs the frame reads, as `run` picks it
+        // (frame_graph/gather.rs).
+        fg.will_dispatch_by_reads(
+            PassName::new("Reflection").step("diffuse and specular"),
+            self.owner,
+            &self.key().key(),
+            &[self.diffuse.as_str(), self.specular.as_str()],
+            |read| match read {
+                [true, true] => "both",
+                [true, false] => "diffuse",
+                _ => "main",
+            },
+        );
     }
 }

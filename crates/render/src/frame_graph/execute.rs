@@ -86,6 +86,7 @@ fn execute(
         executor.shaders().make_ahead(device, announced);
     }
     let announced_if_run = graph.take_pipelines_if_run();
+    let announced_if_read = graph.take_pipelines_if_read();
     let mut textures = executor.texture_pool();
     let lent = std::mem::take(&mut textures.lent);
     for (key, texture) in lent {
@@ -107,8 +108,9 @@ fn execute(
     let plan = &*planned.plan;
     // Those announced for passes that may be culled or merged, now that the
     // plan says which run (gather.rs).
-    if !announced_if_run.is_empty() {
-        let run = super::gather::run_by(plan, announced_if_run);
+    if !announced_if_run.is_empty() || !announced_if_read.is_empty() {
+        let mut run = super::gather::run_by(plan, announced_if_run);
+        run.extend(super::gather::read_by(plan, announced_if_read));
         if !run.is_empty() {
             executor.shaders().make_ahead(device, run);
         }

@@ -124,6 +124,17 @@ impl<'a> PassBuilder<'_, 'a> {
         self.graph.will_dispatch(key, entry);
     }
 
+    /// The pass will draw with `key`'s render pipeline `variant`, which
+    /// `build` makes (gather.rs, [`FrameGraph::will_render`]).
+    pub fn will_render(
+        &mut self,
+        key: &crate::shaders::ShaderKey,
+        variant: &str,
+        build: crate::shaders::pipelines_ahead::RenderBuild,
+    ) {
+        self.graph.will_render(key, variant, build);
+    }
+
     /// The graph the pass is declared in (its output size, counters).
     pub fn graph(&self) -> &FrameGraph<'a> {
         self.graph

@@ -417,10 +417,12 @@ pub struct FrameGraph<'a> {
     counters: BTreeMap<&'static str, u64>,
     /// Pairs of passes that run as one when both are needed (merge.rs).
     merges: Vec<merge::Merge<'a>>,
-    /// Compute pipelines its passes will dispatch, announced (gather.rs).
-    pipelines: Vec<(crate::shaders::ShaderKey, &'static str)>,
+    /// Pipelines its passes will dispatch or draw with, announced (gather.rs).
+    pipelines: Vec<crate::shaders::pipelines_ahead::Job>,
     /// Those announced for a pass that may be culled or merged (gather.rs).
     pipelines_if_run: Vec<gather::IfRun>,
+    /// Those whose entry point follows which outputs are read (gather.rs).
+    pipelines_if_read: Vec<gather::IfRead>,
 }
 
 thread_local! {
@@ -447,6 +449,7 @@ impl<'a> FrameGraph<'a> {
             merges: Vec::new(),
             pipelines: Vec::new(),
             pipelines_if_run: Vec::new(),
+            pipelines_if_read: Vec::new(),
         }
     }
 

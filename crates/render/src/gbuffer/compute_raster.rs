@@ -192,14 +192,16 @@ impl ComputeRaster {
         }
     }
 
-    /// Announce the pipelines [`Self::record`] dispatches for the G-buffer's
-    /// view (frame_graph/gather.rs): the same keys and entry points, known
-    /// from the batches when the recipe is declared, so a first frame makes
-    /// them on threads instead of in the pass.
+    /// Announce the pipelines [`Self::record_view`] dispatches for a view
+    /// that keeps back faces where `two_sided_view` (shadow maps) or per
+    /// draw (the G-buffer's) (frame_graph/gather.rs): the same keys and
+    /// entry points, known from the batches when the recipe is declared, so
+    /// a first frame makes them on threads instead of in the pass.
     pub(crate) fn announce(
         &self,
         renderer: &Renderer,
         fg: &mut crate::frame_graph::FrameGraph<'_>,
+        two_sided_view: bool,
     ) {
         if !fg.gathers_pipelines() {
             return;
@@ -209,14 +211,14 @@ impl ComputeRaster {
         let key = |two_sided: bool| raster_key(class, two_sided, particles, self.words);
         let mut sides = [false; 2];
         for batch in &self.batches {
-            sides[usize::from(batch.two_sided)] = true;
+            sides[usize::from(two_sided_view || batch.two_sided)] = true;
         }
         for sided in [false, true] {
             if sides[usize::from(sided)] {
                 fg.will_dispatch(&key(sided), "raster_triangles");
             }
         }
-        fg.will_dispatch(&key(sides[1]), "raster_tiles");
+        fg.will_dispatch(&key(sides[1] || two_sided_view), "raster_tiles");
     }
 
     /// The visibility buffer of the last frame this G-buffer rasterized.

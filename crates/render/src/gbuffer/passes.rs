@@ -25,7 +25,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     let label = |what: &'static str| PassName::new("MRE").step(what);
     let hardware = match (g.raster, &g.compute) {
         (RasterMode::Compute, Some(compute)) => {
-            compute.announce(renderer, fg);
+            compute.announce(renderer, fg, false);
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token
             // carries the dependency through the frame graph.
             let mut pass = fg.pass(label("compute raster"), g.owner);
@@ -45,6 +45,9 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
                     TextureDesc::attachment(HARDWARE_DEPTH_FORMAT).size(g.size),
                 ),
             };
+            if pass.graph().gathers_pipelines() {
+                announce_visibility(g, &mut pass);
+            }
             pass.run(move |cx| visibility(g, renderer, cx, io));
             true
         }
@@ -276,39 +279,92 @@ fn visibility_pipeline(
 ) -> Result<(wgpu::RenderPipeline, ShaderKey), RenderError> {
     let device = cx.gpu.device.clone();
     let key = VisibilityKey { alpha_mask }.key();
-    // Double-sided materials: every face is drawn (the resolve flips their back faces' normals).
+    let (variant, build) = visibility_build(two_sided);
+    let pipeline = cx
+        .shaders
+        .render_pipeline(&device, &key, variant, |module, cache| {
+            build(&device, module, cache)
+        })?;
+    Ok((pipeline, key))
+}
+
+/// The visibility pipeline's variant name and how it is built (by the
+/// pass, or on a thread where the pass announced it). Double-sided
+/// materials: every face is drawn (the resolve flips their back faces'
+/// normals).
+fn visibility_build(
+    two_sided: bool,
+) -> (
+    &'static str,
+    impl Fn(&wgpu::Device, &wgpu::ShaderModule, Option<&wgpu::PipelineCache>) -> wgpu::RenderPipeline
+    + Send
+    + Sync
+    + 'static,
+) {
     let variant = if two_sided {
         "rg32uint+depth32f, two-sided"
     } else {
         "rg32uint+depth32f"
     };
-    let pipeline = cx
-        .shaders
-        .render_pipeline(&device, &key, variant, |module, cache| {
-            pulled_pipeline(
-                &device,
-                module,
-                cache,
-                "visibility",
-                wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: (!two_sided).then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                Some(wgpu::DepthStencilState {
-                    format: HARDWARE_DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                &[Some(wgpu::ColorTargetState {
-                    format: VISIBILITY_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            )
-        })?;
-    Ok((pipeline, key))
+    let build = move |device: &wgpu::Device,
+                      module: &wgpu::ShaderModule,
+                      cache: Option<&wgpu::PipelineCache>| {
+        pulled_pipeline(
+            device,
+            module,
+            cache,
+            "visibility",
+            wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: (!two_sided).then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            Some(wgpu::DepthStencilState {
+                format: HARDWARE_DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            &[Some(wgpu::ColorTargetState {
+                format: VISIBILITY_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        )
+    };
+    (variant, build)
+}
+
+/// Announce the visibility pipelines [`visibility`] draws with
+/// (frame_graph/gather.rs): per side its draws need, the plain one, and
+/// the alpha-tested one for layers of MASK materials.
+fn announce_visibility(g: &GBuffer, pass: &mut crate::frame_graph::PassBuilder<'_, '_>) {
+    // [alpha_mask][two_sided]
+    let mut wanted = [[false; 2]; 2];
+    for d in &g.draws {
+        wanted[0][usize::from(d.two_sided)] = true;
+    }
+    for (layer, range) in g.layers.iter().zip(&g.layer_ranges) {
+        if layer.map_world().is_none() || !layer.alpha_masked() {
+            continue;
+        }
+        for d in g
+            .draws
+            .iter()
+            .filter(|d| (range.0..range.1).contains(&d.first_instance))
+        {
+            wanted[1][usize::from(d.two_sided)] = true;
+        }
+    }
+    for alpha_mask in [false, true] {
+        for two_sided in [false, true] {
+            if wanted[usize::from(alpha_mask)][usize::from(two_sided)] {
+                let key = VisibilityKey { alpha_mask }.key();
+                let (variant, build) = visibility_build(two_sided);
+                pass.will_render(&key, variant, std::sync::Arc::new(build));
+            }
+        }
+    }
 }

@@ -216,6 +216,25 @@ impl ClusterStore {
 /// one (post/transparency), so both walk lists made the same way. With
 /// `occupied` (a word per froxel, non-zero where a transparent fragment
 /// lies), only those froxels get lists, and the end slices are unbounded.
+/// The light assignment's steps, in the order [`assign_lights`] dispatches them.
+const ASSIGNMENT_STEPS: [&str; 4] = ["transform", "count", "scan", "fill"];
+
+/// Announce the pipelines of an assignment `pass` will run
+/// (frame_graph/gather.rs): `occupied` where it reads froxel marks, as
+/// [`assign_lights`] is given them.
+pub(crate) fn announce_assignment(
+    pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
+    occupied: bool,
+) {
+    if !pass.graph().gathers_pipelines() {
+        return;
+    }
+    let key = ClustersKey { occupied }.key();
+    for step in ASSIGNMENT_STEPS {
+        pass.will_dispatch(&key, step);
+    }
+}
+
 pub(crate) fn assign_lights(
     cx: &mut PassContext<'_>,
     store: &ClusterStore,
@@ -242,9 +261,8 @@ pub(crate) fn assign_lights(
     .key();
     // Only the clustered walk runs this pass; the naive loop moves its
     // few lights to view space itself.
-    let steps = ["transform", "count", "scan", "fill"];
     let mut work = Vec::new();
-    for step in steps {
+    for step in ASSIGNMENT_STEPS {
         let pipeline = cx.compute_pipeline(&key, step)?;
         let bindings = Bindings::new()
             .buffer("camera", camera)

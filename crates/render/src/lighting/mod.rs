@@ -19,7 +19,7 @@ use glam::{Mat4, Vec3};
 
 pub use crate::light_kind::LightKind;
 pub use clusters::{ClusterGrid, light_cutoff};
-pub(crate) use clusters::{ClusterStore, GRID_BYTES, assign_lights};
+pub(crate) use clusters::{ClusterStore, GRID_BYTES, announce_assignment, assign_lights};
 pub use composite::{
     CompositeInputs, CompositeKey, CompositeLight, LightComponents, LightPairs, MAX_COMPONENTS,
     MaterialAo, MaterialTerms, Shading, Textured,

@@ -1,6 +1,6 @@
 use super::*;
 use crate::post::copy_key::CopyKey;
-use crate::shaders::{Permutation, ShaderCache};
+use crate::shaders::{GeneratedKey, Permutation, ShaderCache};
 
 /// A few permutations with features, and one without.
 fn some_keys() -> Vec<ShaderKey> {
@@ -54,7 +54,7 @@ fn remembered_lists_read_back_and_a_damaged_file_names_itself() {
 #[test]
 fn what_the_threads_compose_a_renderer_finds_without_a_composer_of_its_own() {
     let keys = vec![CopyKey.key()];
-    assert_eq!(compose_all(&keys, 2), 1);
+    assert_eq!(compose_all(&keys, &[], 2), 1);
     let mut cache = ShaderCache::lazy();
     let reflection = cache.reflection(&keys[0], "main").expect("reflects");
     assert!(!reflection.vars().is_empty());
@@ -76,7 +76,7 @@ fn what_the_threads_compose_a_renderer_finds_without_a_composer_of_its_own() {
 #[test]
 fn threads_started_compose_the_list_and_say_so() {
     let keys = some_keys();
-    let done = start(keys.clone(), 3).finish();
+    let done = start(keys.clone(), Vec::new(), 3).finish();
     assert_eq!(done.listed, keys.len());
     assert_eq!(done.composed, keys.len());
     assert_eq!(done.threads, 3);
@@ -89,14 +89,12 @@ fn threads_started_compose_the_list_and_say_so() {
 fn pipelines_read_back_in_their_order_their_permutations_first_and_an_old_list_still_reads() {
     let keys = some_keys();
     let copy = CopyKey.key();
-    let pipelines = [(keys[1].clone(), "main"), (copy.clone(), "main")];
+    let pipelines = [
+        PipelineId::entry(&keys[1], "main"),
+        PipelineId::entry(&copy, "main"),
+    ];
     let list = parse(&to_text(&keys, &pipelines)).expect("a list");
-    let read: Vec<(ShaderKey, &str)> = list
-        .pipelines
-        .iter()
-        .map(|(k, e)| (k.clone(), e.as_str()))
-        .collect();
-    assert_eq!(read, pipelines);
+    assert_eq!(list.pipelines, pipelines);
     // Composed in the order the frame wants them, each once.
     assert_eq!(list.keys[..2], [keys[1].clone(), copy]);
     assert_eq!(list.keys.len(), keys.len());
@@ -104,9 +102,90 @@ fn pipelines_read_back_in_their_order_their_permutations_first_and_an_old_list_s
     let old = format!("{HEADER_1}\npost/copy.wgsl\t\n");
     let old = parse(&old).expect("an old list");
     assert_eq!((old.keys.len(), old.pipelines.len()), (1, 0));
+    // One before generated shaders were listed.
+    let old = parse(&format!("{HEADER_2}\npost/copy.wgsl\t\tmain\n")).expect("an old list");
+    assert_eq!((old.keys.len(), old.pipelines.len()), (1, 1));
     let bad = parse(&format!("{HEADER}\npost/copy.wgsl\t\tma in\n")).unwrap_err();
     assert!(
         bad.contains("line 2") && bad.contains("entry point"),
         "{bad}"
     );
+}
+
+/// Two CookTorrance permutations of different lights: a fused pair's parts.
+fn light_set_parts() -> Vec<ShaderKey> {
+    let mut parts: Vec<ShaderKey> = Vec::new();
+    for light in ["LIGHT_SUN", "LIGHT_SPOT"] {
+        let part = crate::permutations::all_permutations()
+            .into_iter()
+            .filter(|k| k.path() == "lighting/cook_torrance.wgsl" && k.features.contains(light))
+            .min_by_key(|k| k.features.len())
+            .expect("a permutation of the light");
+        parts.push(part);
+    }
+    parts
+}
+
+/// A generated shader's line reads back as the same key (its generator
+/// and parts in order), counts among the pipelines and the generated
+/// shaders to compose; one naming a generator or a part this build lacks is
+/// skipped as unknown, and the rest of the list still reads.
+#[test]
+fn generated_shaders_read_back_and_unknown_generators_or_parts_are_skipped() {
+    let copy = CopyKey.key();
+    let fused = GeneratedKey {
+        generator: &crate::lighting::light_sets::GENERATOR,
+        parts: light_set_parts(),
+        options: Vec::new(),
+    };
+    // The summed variant: the same parts, the generator's own switches.
+    let summed = GeneratedKey {
+        options: vec!["LIGHT_SUM".to_owned(), "S0_OUT_SSS".to_owned(), "SUM_DIFFUSE".to_owned()],
+        ..fused.clone()
+    };
+    let pipelines = [
+        PipelineId::entry(&copy, "main"),
+        PipelineId::Generated(fused.clone()),
+        PipelineId::Generated(summed.clone()),
+    ];
+    let text = to_text(std::slice::from_ref(&copy), &pipelines);
+    assert!(
+        text.contains("\ngenerated\tlight_sets\t"),
+        "a line of its own: {text}"
+    );
+    let list = parse(&text).expect("a list");
+    assert_eq!(list.pipelines, pipelines);
+    assert_eq!(list.generated, [fused.clone(), summed.clone()]);
+    assert_eq!((list.keys.len(), list.unknown), (1, 0));
+    let stale = format!(
+        "{text}generated\tno_such_generator\tLIGHT_SUN\tLIGHT_SPOT\n\
+         generated\tlight_sets\tLIGHT_SUN\tNOT_A_FEATURE\n"
+    );
+    let list = parse(&stale).expect("a list");
+    assert_eq!(list.pipelines, pipelines);
+    assert_eq!(list.unknown, 2);
+}
+
+/// The threads compose a list's generated shader ahead: a renderer's
+/// look-up finds it composed, as it finds a permutation.
+#[test]
+fn threads_compose_a_generated_shader_and_its_generator_refuses_a_lone_part() {
+    let parts = light_set_parts();
+    let fused = GeneratedKey {
+        generator: &crate::lighting::light_sets::GENERATOR,
+        parts: parts.clone(),
+        options: Vec::new(),
+    };
+    let lone = GeneratedKey {
+        generator: &crate::lighting::light_sets::GENERATOR,
+        parts: parts[..1].to_vec(),
+        options: Vec::new(),
+    };
+    let done = start(Vec::new(), vec![fused.clone(), lone.clone()], 2).finish();
+    assert_eq!((done.listed, done.composed), (2, 1), "{done:?}");
+    let (label, module) =
+        crate::shaders::embedded_generated_or_wait(&fused).expect("composed ahead");
+    assert!(label.contains("light_sets x2"), "{label}");
+    assert!(module.entry_points.iter().any(|e| e.name == "main"));
+    assert!(crate::shaders::embedded_generated_or_wait(&lone).is_none());
 }

@@ -10,7 +10,8 @@ use super::BindGroups;
 use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
-use crate::shaders::pipelines_ahead::{AheadStats, PipelinesAhead};
+use crate::shaders::generated::GeneratedKey;
+use crate::shaders::pipelines_ahead::{AheadStats, Job, Made, PipelineId, PipelinesAhead};
 
 /// A compute pipeline of `entry` in `module`, its bind group layouts derived
 /// from the shader (also what `crate::shaders::pipelines_ahead` makes, the same way).
@@ -87,6 +88,10 @@ pub struct ShaderCache {
     /// which those are `pipelines_taken_ahead`.
     pub pipelines_compiled: u64,
     pub pipelines_taken_ahead: u64,
+    /// What those the cache made itself were (the rest were taken from
+    /// threads): their labels, in the order made (`cold_start`'s
+    /// `made_at_frame`, to see what is still left to a first frame).
+    pub made_here: Vec<String>,
     /// Bind groups made and reused since the cache was made.
     pub bind_groups_created: u64,
     pub bind_groups_reused: u64,
@@ -104,9 +109,10 @@ pub struct ShaderCache {
     /// what those threads did, summed.
     frame_ahead: Vec<PipelinesAhead>,
     frame_ahead_done: AheadStats,
-    /// Compute pipelines in the order first looked up: what the next run
-    /// creates ahead, in the order its frame will want them.
-    compute_order: Vec<(ShaderKey, &'static str)>,
+    /// Compute pipelines (a permutation's entry points, generated shaders)
+    /// in the order first looked up: what the next run creates ahead, in
+    /// the order its frame will want them.
+    compute_order: Vec<PipelineId>,
 }
 
 /// CPU time spent making shaders and pipelines, by step: most of what a
@@ -269,6 +275,7 @@ impl ShaderCache {
             generation: 0,
             pipelines_compiled: 0,
             pipelines_taken_ahead: 0,
+            made_here: Vec::new(),
             bind_groups_created: 0,
             bind_groups_reused: 0,
             compile_times: CompileTimes::default(),
@@ -289,25 +296,32 @@ impl ShaderCache {
     }
 
     /// Start making, on threads, those of `wanted` (a frame's announced
-    /// compute pipelines) that are neither made nor being made already.
-    pub fn make_ahead(&mut self, device: &wgpu::Device, wanted: Vec<(ShaderKey, &'static str)>) {
+    /// pipelines) that are neither made nor being made already.
+    pub fn make_ahead(&mut self, device: &wgpu::Device, wanted: Vec<Job>) {
         if !self.shares_embedded() || !crate::shaders::pipelines_ahead::enabled() {
             return;
         }
-        let mut missing: Vec<crate::shaders::pipelines_ahead::PipelineId> = Vec::new();
-        for (key, entry) in wanted {
-            let made = self
-                .compute
-                .get(&key)
-                .is_some_and(|m| m.contains_key(entry));
-            let id = (key, entry.to_owned());
+        let mut missing: Vec<Job> = Vec::new();
+        for job in wanted {
+            let made = match &job.id {
+                PipelineId::Entry(key, entry) => self
+                    .compute
+                    .get(key)
+                    .is_some_and(|m| m.contains_key(entry.as_str())),
+                // Looked up before (its map is keyed by the frame's hash).
+                PipelineId::Generated(_) => self.compute_order.contains(&job.id),
+                PipelineId::Render(key, variant) => self
+                    .render
+                    .get(key)
+                    .is_some_and(|m| m.contains_key(variant.as_str())),
+            };
             let making = self
                 .ahead
                 .iter()
                 .chain(&self.frame_ahead)
-                .any(|a| a.has(&id));
-            if !made && !making && !missing.contains(&id) {
-                missing.push(id);
+                .any(|a| a.has(&job.id));
+            if !made && !making && !missing.iter().any(|m| m.id == job.id) {
+                missing.push(job);
             }
         }
         if missing.is_empty() {
@@ -319,6 +333,15 @@ impl ShaderCache {
             missing,
             crate::shaders::pipelines_ahead::threads(),
         ));
+    }
+
+    /// `id` made ahead, taken from the threads' where they made it (over
+    /// the embedded sources only, as those threads compose).
+    fn take_ahead(&self, id: &PipelineId) -> Option<Made> {
+        if !self.shares_embedded() {
+            return None;
+        }
+        (self.ahead.iter().chain(&self.frame_ahead)).find_map(|a| a.take(id))
     }
 
     /// A frame ended: what its threads made and it did not take is let go
@@ -357,8 +380,8 @@ impl ShaderCache {
     }
 
     /// Every compute pipeline looked up so far, by permutation and entry
-    /// point, in the order first asked for.
-    pub fn compute_pipelines_used(&self) -> &[(ShaderKey, &'static str)] {
+    /// point or generated shader, in the order first asked for.
+    pub fn compute_pipelines_used(&self) -> &[PipelineId] {
         &self.compute_order
     }
 
@@ -383,6 +406,7 @@ impl ShaderCache {
         *self = ShaderCache {
             pipelines_compiled: self.pipelines_compiled,
             pipelines_taken_ahead: self.pipelines_taken_ahead,
+            made_here: std::mem::take(&mut self.made_here),
             compile_times: self.compile_times,
             pipeline_cache: self.pipeline_cache.take(),
             generation: self.generation + 1,
@@ -656,13 +680,12 @@ impl ShaderCache {
     }
 
     /// The permutations compiled so far (tests check a feature no scene uses
-    /// never is): a module made here, or a pipeline made for this cache on
-    /// a thread ahead of its look-up (`crate::shaders::pipelines_ahead`), which
-    /// leaves no module here.
+    /// never is): a module made here, or a compute or render pipeline made
+    /// for this cache on a thread ahead of its look-up
+    /// (`crate::shaders::pipelines_ahead`), which leaves no module here.
     pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
         self.modules.keys().chain(
-            self.compute
-                .keys()
+            (self.compute.keys().chain(self.render.keys()))
                 .filter(|key| !self.modules.contains_key(*key)),
         )
     }
@@ -674,7 +697,10 @@ impl ShaderCache {
             .modules
             .keys()
             .chain(self.reflections.keys())
-            .chain(self.compute_order.iter().map(|(key, _)| key))
+            .chain(self.compute_order.iter().filter_map(|id| match id {
+                PipelineId::Entry(key, _) => Some(key),
+                _ => None,
+            }))
             .collect();
         used.into_iter().cloned().collect()
     }
@@ -693,12 +719,10 @@ impl ShaderCache {
         {
             return Ok(p.clone());
         }
-        self.compute_order.push((key.clone(), entry));
-        let taken = match self.shares_embedded() {
-            true => (self.ahead.iter().chain(&self.frame_ahead)).find_map(|a| a.take(key, entry)),
-            false => None,
-        };
-        if let Some(pipeline) = taken {
+        let id = PipelineId::entry(key, entry);
+        let taken = self.take_ahead(&id);
+        self.compute_order.push(id);
+        if let Some(Made::Compute(pipeline)) = taken {
             self.pipelines_compiled += 1;
             self.pipelines_taken_ahead += 1;
             self.compute
@@ -713,6 +737,7 @@ impl ShaderCache {
             compute_pipeline_of(device, self.pipeline_cache.as_ref(), &module, &label, entry)
         });
         self.pipelines_compiled += 1;
+        self.made_here.push(label);
         self.compute
             .entry(key.clone())
             .or_default()
@@ -752,6 +777,7 @@ impl ShaderCache {
             )
         });
         self.pipelines_compiled += 1;
+        self.made_here.push(format!("{label}::{entry}"));
         self.external.insert(cache_key, pipeline.clone());
         pipeline
     }
@@ -825,27 +851,49 @@ impl ShaderCache {
             )
         });
         self.pipelines_compiled += 1;
+        self.made_here.push(format!("{label}::{entry}"));
         pipeline
     }
 
-    /// The compute pipeline of `entry` in a shader generated over the
-    /// sources (the fused light loop, `lighting::light_sets`) and its
-    /// reflection, cached under `key`, which must change with everything
-    /// `compose` makes it from (a hash: a frame looks it up without
-    /// formatting a name). `compose` runs only the first time and names
-    /// what it made, for messages and captures.
+    /// The compute pipeline of a shader generated over the sources (the
+    /// fused light loop, `lighting::light_sets`) and its reflection, cached
+    /// under `hash`, which must change with the key `key` makes (a hash the
+    /// frame computes without building the key, which is made only the
+    /// first time): taken from the threads that made it ahead
+    /// (`shaders/generated.rs`), else generated, composed and made here.
     pub fn generated_pipeline(
         &mut self,
         device: &wgpu::Device,
-        key: u64,
-        entry: &str,
-        compose: impl FnOnce(&mut ShaderComposer) -> Result<(String, naga::Module), RenderError>,
+        hash: u64,
+        key: impl FnOnce() -> GeneratedKey,
     ) -> Result<SplicedPipeline, RenderError> {
-        if let Some(found) = self.generated.get(&key) {
+        if let Some(found) = self.generated.get(&hash) {
             return Ok(found.clone());
         }
+        let key = key();
+        let id = PipelineId::Generated(key.clone());
+        let taken = self.take_ahead(&id);
+        self.compute_order.push(id);
+        if let Some(Made::Generated(pipeline, reflection)) = taken {
+            self.pipelines_compiled += 1;
+            self.pipelines_taken_ahead += 1;
+            self.generated
+                .insert(hash, (pipeline.clone(), reflection.clone()));
+            return Ok((pipeline, reflection));
+        }
+        let entry = key.generator.entry;
         let started = std::time::Instant::now();
-        let composed = compose(self.composer()?);
+        let ready = match self.shares_embedded() {
+            true => crate::shaders::embedded_generated_or_wait(&key),
+            false => None,
+        };
+        let composed = match ready {
+            Some(made) => {
+                self.compile_times.ready += 1;
+                Ok(made)
+            }
+            None => self.composer().and_then(|c| c.generate(&key)),
+        };
         self.compile_times.compose += started.elapsed();
         let (label, composed) = composed?;
         let reflection =
@@ -858,7 +906,7 @@ impl ShaderCache {
             );
         let pipeline = self.composed_pipeline(device, &label, composed, entry);
         self.generated
-            .insert(key, (pipeline.clone(), reflection.clone()));
+            .insert(hash, (pipeline.clone(), reflection.clone()));
         Ok((pipeline, reflection))
     }
 
@@ -875,10 +923,25 @@ impl ShaderCache {
         if let Some(p) = self.render.get(key).and_then(|by| by.get(variant)) {
             return Ok(p.clone());
         }
+        // Announced by its pass and made on a thread (frame_graph/gather.rs).
+        if !self.frame_ahead.is_empty()
+            && let Some(Made::Render(pipeline)) =
+                self.take_ahead(&PipelineId::Render(key.clone(), variant.to_owned()))
+        {
+            self.pipelines_compiled += 1;
+            self.pipelines_taken_ahead += 1;
+            self.render
+                .entry(key.clone())
+                .or_default()
+                .insert(variant.to_owned(), pipeline.clone());
+            return Ok(pipeline);
+        }
         let module = self.module(device, key)?;
         let cache = self.pipeline_cache.as_ref();
         let pipeline = timed(&mut self.compile_times.pipelines, || build(&module, cache));
         self.pipelines_compiled += 1;
+        self.made_here
+            .push(format!("{}{} ({variant})", key.path(), key.describe_defs()));
         self.render
             .entry(key.clone())
             .or_default()

@@ -12,6 +12,7 @@ use naga_oil::compose::{
     ShaderType,
 };
 
+use super::generated::GeneratedKey;
 use super::{LIBRARIES, ShaderFile, ShaderKey};
 use crate::error::RenderError;
 
@@ -40,11 +41,17 @@ pub struct ShaderComposer {
 /// wants one of those waits for it rather than composing it again (the
 /// threads composing ahead, those creating pipelines ahead and the first
 /// frame often reach the same permutation at once).
+/// The same for generated shaders (`shaders/generated.rs`), with their labels.
 #[derive(Default)]
 struct Embedded {
     modules: HashMap<ShaderKey, naga::Module>,
     composing: std::collections::HashSet<ShaderKey>,
+    generated: HashMap<GeneratedKey, Generated>,
+    generating: std::collections::HashSet<GeneratedKey>,
 }
+
+/// A generated shader composed: its label and module.
+pub(crate) type Generated = (String, naga::Module);
 
 fn embedded_modules() -> &'static (std::sync::Mutex<Embedded>, std::sync::Condvar) {
     static MODULES: std::sync::OnceLock<(std::sync::Mutex<Embedded>, std::sync::Condvar)> =
@@ -76,6 +83,47 @@ pub(crate) fn embedded_module_or_wait(key: &ShaderKey) -> Option<naga::Module> {
             .unwrap_or_else(|e| e.into_inner());
     }
     shared.modules.get(key).cloned()
+}
+
+/// Generated shader `key` over the embedded sources, if a composer of this
+/// process generated it already, waiting first where one is generating it.
+pub(crate) fn embedded_generated_or_wait(key: &GeneratedKey) -> Option<Generated> {
+    let mut shared = embedded();
+    while shared.generating.contains(key) {
+        shared = embedded_modules()
+            .1
+            .wait(shared)
+            .unwrap_or_else(|e| e.into_inner());
+    }
+    shared.generated.get(key).cloned()
+}
+
+/// A generated shader this composer is generating ([`Composing`]'s twin).
+struct Generating<'k>(&'k GeneratedKey);
+
+impl Drop for Generating<'_> {
+    fn drop(&mut self) {
+        embedded().generating.remove(self.0);
+        embedded_modules().1.notify_all();
+    }
+}
+
+/// Generated shader `key` made already, or waited for; else None, with it
+/// marked as this caller's to generate until the guard is dropped.
+fn generated_or_claim(key: &GeneratedKey) -> Result<Generated, Generating<'_>> {
+    let mut shared = embedded();
+    loop {
+        if let Some(made) = shared.generated.get(key) {
+            return Ok(made.clone());
+        }
+        if shared.generating.insert(key.clone()) {
+            return Err(Generating(key));
+        }
+        shared = embedded_modules()
+            .1
+            .wait(shared)
+            .unwrap_or_else(|e| e.into_inner());
+    }
 }
 
 /// Whether permutation `key` of the embedded sources is composed in this process.
@@ -381,6 +429,25 @@ impl ShaderComposer {
     pub fn source_of(&mut self, file: &'static ShaderFile) -> &str {
         self.load(file);
         &self.sources[file.path]
+    }
+
+    /// Generated shader `key` composed: over the embedded sources once in
+    /// the process, as [`Self::compose`] does a permutation (the threads
+    /// composing ahead, those creating pipelines ahead and the frame reach
+    /// the same one), else by this composer.
+    pub fn generate(&mut self, key: &GeneratedKey) -> Result<Generated, RenderError> {
+        let shared = self.shares_embedded();
+        let _generating = match shared.then(|| generated_or_claim(key)) {
+            Some(Ok(made)) => return Ok(made),
+            Some(Err(claimed)) => Some(claimed),
+            None => None,
+        };
+        let made = key.compose_with(self)?;
+        if shared {
+            // Before the claim is dropped (which wakes those waiting).
+            embedded().generated.insert(key.clone(), made.clone());
+        }
+        Ok(made)
     }
 
     /// Compose a generated entry shader (`source`, named `file_path`) over

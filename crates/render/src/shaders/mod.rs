@@ -75,6 +75,8 @@ pub fn library(path: &str) -> Option<&'static ShaderFile> {
 mod cache;
 mod composer;
 mod flags;
+/// Shaders generated from the sources' text (the fused light loop), by name.
+pub mod generated;
 pub mod layout;
 /// Compute pipelines created on threads ahead of the frame's look-up (the
 /// last run's list, or what a first frame's passes announce): the cache's
@@ -85,10 +87,11 @@ mod uniform;
 
 pub(crate) use cache::compute_pipeline_of;
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
-pub(crate) use composer::embedded_module;
 #[cfg(test)]
 pub(crate) use composer::is_composed;
 pub use composer::{ShaderComposer, Splice};
+pub(crate) use composer::{embedded_generated_or_wait, embedded_module};
+pub use generated::{GeneratedKey, Generator};
 pub use permutation::{Permutation, ShaderFile, ShaderKey};
 pub(crate) use reflection::INLINE_BINDINGS;
 #[cfg(test)]

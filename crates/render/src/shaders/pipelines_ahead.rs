@@ -18,6 +18,14 @@
 //! entry point this build lacks is skipped, and a pipeline the device
 //! refuses ahead (caught in an error scope of the thread) is left for the
 //! frame, which makes it and reports its error where it is used.
+//!
+//! Besides a permutation's compute entry points, the threads make
+//! generated shaders' pipelines (the fused light loop,
+//! `shaders/generated.rs`: generated and composed here unless the
+//! precompose threads did it first, and reflected for the frame's bind
+//! groups), and render pipelines a frame's passes announce with the
+//! function that builds them (never listed: a render pipeline's state is
+//! code, not a name).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
@@ -25,7 +33,8 @@ use std::time::{Duration, Instant};
 
 use rustc_hash::FxHashMap;
 
-use crate::shaders::{ShaderComposer, ShaderKey};
+use crate::shaders::generated::GeneratedKey;
+use crate::shaders::{Reflection, ShaderComposer, ShaderKey};
 
 /// Whether pipelines are created ahead (`SPREADLIGHT_PIPELINES_AHEAD=off|0`:
 /// not, to measure the frame making them itself with the same list).
@@ -43,8 +52,55 @@ pub fn wait_before_first_frame() -> bool {
     std::env::var("SPREADLIGHT_PIPELINES_AHEAD").as_deref() == Ok("wait")
 }
 
-/// A compute pipeline by its permutation and entry point.
-pub type PipelineId = (ShaderKey, String);
+/// A pipeline made ahead, by what it is made of.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum PipelineId {
+    /// A compute entry point of a permutation.
+    Entry(ShaderKey, String),
+    /// A generated shader's compute pipeline (its generator's entry point).
+    Generated(GeneratedKey),
+    /// A render pipeline of a permutation, by the variant its pass names
+    /// it by (`ShaderCache::render_pipeline`); made by the [`RenderBuild`]
+    /// its announcement brings.
+    Render(ShaderKey, String),
+}
+
+impl PipelineId {
+    /// A permutation's compute entry point.
+    pub fn entry(key: &ShaderKey, entry: &str) -> PipelineId {
+        PipelineId::Entry(key.clone(), entry.to_owned())
+    }
+}
+
+/// How a render pipeline is made from its composed module, through the
+/// pipeline cache given: what a pass's look-up builds, on a thread.
+pub type RenderBuild = Arc<
+    dyn Fn(&wgpu::Device, &wgpu::ShaderModule, Option<&wgpu::PipelineCache>) -> wgpu::RenderPipeline
+        + Send
+        + Sync,
+>;
+
+/// A pipeline to make ahead: what it is, and for a render pipeline how.
+#[derive(Clone)]
+pub struct Job {
+    pub id: PipelineId,
+    pub build: Option<RenderBuild>,
+}
+
+impl From<PipelineId> for Job {
+    fn from(id: PipelineId) -> Job {
+        Job { id, build: None }
+    }
+}
+
+/// A pipeline made ahead, as the frame's look-up takes it.
+#[derive(Clone, Debug)]
+pub enum Made {
+    Compute(wgpu::ComputePipeline),
+    /// A generated shader's, with the reflection its bind groups are made by.
+    Generated(wgpu::ComputePipeline, Arc<Reflection>),
+    Render(wgpu::RenderPipeline),
+}
 
 /// Where one listed pipeline is.
 enum Slot {
@@ -52,7 +108,7 @@ enum Slot {
     Queued,
     /// A thread is making it: the frame waits.
     Making,
-    Ready(wgpu::ComputePipeline),
+    Ready(Made),
     /// Skipped (this build lacks its entry point) or refused by the device:
     /// the frame makes it, or never asks.
     Failed,
@@ -126,14 +182,14 @@ impl PipelinesAhead {
     pub fn start(
         device: wgpu::Device,
         cache: Option<wgpu::PipelineCache>,
-        pipelines: Vec<PipelineId>,
+        pipelines: Vec<Job>,
         threads: usize,
     ) -> PipelinesAhead {
         let mut slots = FxHashMap::default();
         let mut order = Vec::with_capacity(pipelines.len());
-        for id in pipelines {
-            if slots.insert(id.clone(), Slot::Queued).is_none() {
-                order.push(id);
+        for job in pipelines {
+            if slots.insert(job.id.clone(), Slot::Queued).is_none() {
+                order.push(job);
             }
         }
         let threads = threads.clamp(1, order.len().max(1));
@@ -168,18 +224,17 @@ impl PipelinesAhead {
         PipelinesAhead { shared }
     }
 
-    /// The pipeline `entry` of `key` made ahead: taken if ready, waited for
-    /// if a thread is making it; None when it is not in the list, failed,
-    /// or no thread began it yet (then no thread will: the caller makes it).
-    pub fn take(&self, key: &ShaderKey, entry: &str) -> Option<wgpu::ComputePipeline> {
-        let id = (key.clone(), entry.to_owned());
+    /// The pipeline `id` made ahead: taken if ready, waited for if a
+    /// thread is making it; None when it is not in the list, failed, or no
+    /// thread began it yet (then no thread will: the caller makes it).
+    pub fn take(&self, id: &PipelineId) -> Option<Made> {
         let mut slots = locked(&self.shared.slots);
         let mut waited = None;
         loop {
-            match slots.get(&id) {
+            match slots.get(id) {
                 None | Some(Slot::Failed) => return None,
                 Some(Slot::Queued) => {
-                    slots.insert(id, Slot::Failed);
+                    slots.insert(id.clone(), Slot::Failed);
                     drop(slots);
                     locked(&self.shared.stats).claimed += 1;
                     return None;
@@ -238,7 +293,7 @@ impl PipelinesAhead {
 
 /// What the threads share: the list in order, the next to take.
 struct Work {
-    order: Vec<PipelineId>,
+    order: Vec<Job>,
     next: AtomicUsize,
     /// Threads still running; the last one to end notes the wall time.
     running: AtomicUsize,
@@ -252,7 +307,8 @@ impl Work {
         // Made only where a permutation was not composed already (by
         // `crate::precompose`'s threads, which usually ran ahead of these).
         let mut composer: Option<ShaderComposer> = None;
-        while let Some(id) = self.order.get(self.next.fetch_add(1, Ordering::Relaxed)) {
+        while let Some(job) = self.order.get(self.next.fetch_add(1, Ordering::Relaxed)) {
+            let id = &job.id;
             {
                 let mut slots = locked(&shared.slots);
                 match slots.get_mut(id) {
@@ -261,7 +317,7 @@ impl Work {
                     _ => continue,
                 }
             }
-            let made = self.make(&mut composer, id);
+            let made = self.make(&mut composer, job);
             let mut stats = locked(&shared.stats);
             match made {
                 Some(_) => stats.created += 1,
@@ -285,59 +341,121 @@ impl Work {
         }
     }
 
-    /// The pipeline as `ShaderCache::compute_pipeline` makes it; None
-    /// where the entry point is not a compute entry point of the
-    /// permutation or the device refuses it.
-    fn make(
+    /// The pipeline as the shader cache's look-up makes it
+    /// (`ShaderCache::compute_pipeline`, `generated_pipeline`,
+    /// `render_pipeline`); None where the entry point is not a compute
+    /// entry point of the module, the generator refuses the parts, a render
+    /// pipeline came without its build, or the device refuses it.
+    fn make(&self, composer: &mut Option<ShaderComposer>, job: &Job) -> Option<Made> {
+        match &job.id {
+            PipelineId::Entry(key, entry) => {
+                let module = self.module(composer, key)?;
+                if !has_compute_entry(&module, entry) {
+                    return None;
+                }
+                let label = format!("{}{}", key.path(), key.describe_defs());
+                self.scoped(|| {
+                    let shader = self.shader(&label, module);
+                    let label = format!("{label}::{entry}");
+                    Made::Compute(crate::shaders::compute_pipeline_of(
+                        &self.device,
+                        self.cache.as_ref(),
+                        &shader,
+                        &label,
+                        entry,
+                    ))
+                })
+            }
+            PipelineId::Generated(key) => {
+                let (label, module) = match crate::shaders::embedded_generated_or_wait(key) {
+                    Some(made) => made,
+                    None => composer_of(composer)?.generate(key).ok()?,
+                };
+                let entry = key.generator.entry;
+                if !has_compute_entry(&module, entry) {
+                    return None;
+                }
+                let reflection = Arc::new(super::reflection::reflect(&module, entry).ok()?);
+                self.scoped(|| {
+                    let shader = self.shader(&label, module);
+                    let pipeline = crate::shaders::compute_pipeline_of(
+                        &self.device,
+                        self.cache.as_ref(),
+                        &shader,
+                        &format!("{label}::{entry}"),
+                        entry,
+                    );
+                    Made::Generated(pipeline, reflection)
+                })
+            }
+            PipelineId::Render(key, _) => {
+                let build = job.build.as_ref()?;
+                let module = self.module(composer, key)?;
+                let label = format!("{}{}", key.path(), key.describe_defs());
+                self.scoped(|| {
+                    let shader = self.shader(&label, module);
+                    Made::Render(build(&self.device, &shader, self.cache.as_ref()))
+                })
+            }
+        }
+    }
+
+    /// Permutation `key` composed: by the precompose threads or another
+    /// composer of the process, else by this thread's.
+    fn module(
         &self,
         composer: &mut Option<ShaderComposer>,
-        (key, entry): &PipelineId,
-    ) -> Option<wgpu::ComputePipeline> {
-        let module = match crate::shaders::embedded_module(key) {
-            Some(module) => module,
-            None => {
-                if composer.is_none() {
-                    *composer = ShaderComposer::new().ok();
-                }
-                composer.as_mut()?.compose(key).ok()?
-            }
-        };
-        let has_entry = module
-            .entry_points
-            .iter()
-            .any(|e| e.name == *entry && e.stage == naga::ShaderStage::Compute);
-        if !has_entry {
-            return None;
+        key: &ShaderKey,
+    ) -> Option<naga::Module> {
+        match crate::shaders::embedded_module(key) {
+            Some(module) => Some(module),
+            None => composer_of(composer)?.compose(key).ok(),
         }
-        // Errors of this thread's calls land here, not in the device's
-        // uncaptured errors, which a host reports against its frame.
+    }
+
+    fn shader(&self, label: &str, module: naga::Module) -> wgpu::ShaderModule {
+        self.device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+            })
+    }
+
+    /// `make`'s result, None where the device raised an error making it:
+    /// errors of this thread's calls land in its own scopes, not in the
+    /// device's uncaptured errors, which a host reports against its frame.
+    fn scoped(&self, make: impl FnOnce() -> Made) -> Option<Made> {
         let scopes = [
             wgpu::ErrorFilter::OutOfMemory,
             wgpu::ErrorFilter::Internal,
             wgpu::ErrorFilter::Validation,
         ]
         .map(|filter| self.device.push_error_scope(filter));
-        let label = format!("{}{}", key.path(), key.describe_defs());
-        let shader = self
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&label),
-                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
-            });
-        let pipeline = crate::shaders::compute_pipeline_of(
-            &self.device,
-            self.cache.as_ref(),
-            &shader,
-            &format!("{label}::{entry}"),
-            entry,
-        );
+        let made = make();
         // Popped innermost first, as they must be.
         let mut refused = false;
         for scope in scopes.into_iter().rev() {
             refused |= pollster::block_on(scope.pop()).is_some();
         }
-        (!refused).then_some(pipeline)
+        (!refused).then_some(made)
     }
+}
+
+/// Whether `module` has a compute entry point named `entry`.
+fn has_compute_entry(module: &naga::Module, entry: &str) -> bool {
+    module
+        .entry_points
+        .iter()
+        .any(|e| e.name == entry && e.stage == naga::ShaderStage::Compute)
+}
+
+/// A thread's composer, made the first time one is needed (most
+/// permutations were composed already by `crate::precompose`'s threads).
+fn composer_of(composer: &mut Option<ShaderComposer>) -> Option<&mut ShaderComposer> {
+    if composer.is_none() {
+        *composer = ShaderComposer::new().ok();
+    }
+    composer.as_mut()
 }
 
 /// The threads to compose or create pipelines with: every core but the one

@@ -694,6 +694,8 @@ impl Recipe for ShadowMaps {
                 fg.count(name, n);
             }
         }
+        // Their pipelines made on threads on a first frame (frame_graph/gather.rs).
+        self.announce(renderer, fg);
         // The maps live in the store; this token orders their pass before readers.
         let token = TextureDesc::token();
         // VSM: the depth pass, then the moments pass, each timed on its own.

@@ -5,7 +5,7 @@
 use std::sync::{Arc, Mutex};
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, PassContext};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext};
 use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView, Words};
 use crate::gbuffer::{Draw, Layer, pack_instances};
 use crate::mesh_arena::pulled_pipeline;
@@ -17,7 +17,7 @@ use smallvec::{SmallVec, smallvec};
 
 use super::scroll::Rect;
 use super::store::{DEPTH_FORMAT, StoredMaps};
-use super::{ShadowFilter, ShadowMaps, VIEW_STRIDE, layer_view};
+use super::{Sets, ShadowFilter, ShadowMaps, VIEW_STRIDE, layer_view};
 
 pub use super::raster_key::{MomentsKey, ShadowDepthKey, ShadowResolveKey};
 
@@ -192,7 +192,82 @@ pub(super) fn strip_projection(view_projection: Mat4, rect: Rect, resolution: u3
     narrow * view_projection
 }
 
+/// The raster hardware's depth pipeline's variant name
+/// (`ShaderCache::render_pipeline`).
+const DEPTH_VARIANT: &str = "depth32f";
+
+/// The raster hardware's depth pipeline, as the pass builds it and a
+/// thread does where the maps' recipe announced it.
+fn depth_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    cache: Option<&wgpu::PipelineCache>,
+) -> wgpu::RenderPipeline {
+    // Both faces: open meshes (a plane) must cast too.
+    pulled_pipeline(
+        device,
+        module,
+        cache,
+        "shadow depth",
+        wgpu::PrimitiveState::default(),
+        Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            // Slope-scaled bias against acne on surfaces at grazing angles.
+            bias: wgpu::DepthBiasState {
+                constant: 0,
+                slope_scale: 1.5,
+                clamp: 0.0,
+            },
+        }),
+        &[],
+    )
+}
+
 impl ShadowMaps {
+    /// Announce the pipelines drawing the maps will use
+    /// (frame_graph/gather.rs), as the render and moments passes look them
+    /// up: the compute rasterizer's (each caster set's, back faces kept) or
+    /// the raster hardware's depth pipeline, the depth's resolve into the
+    /// maps (over the still casters' cache where some casters are still),
+    /// and VSM's moments.
+    pub(super) fn announce(&self, renderer: &Renderer, fg: &mut FrameGraph<'_>) {
+        if !fg.gathers_pipelines() {
+            return;
+        }
+        let (sets, split): (SmallVec<[&CasterSet; 2]>, bool) = match &self.sets {
+            Sets::One(set) => (smallvec![set], false),
+            Sets::Split { still, moving } => (smallvec![&**still, moving], true),
+        };
+        let hardware = self.cameras.is_none();
+        for set in &sets {
+            if let Some(raster) = &set.compute {
+                raster.announce(renderer, fg, true);
+            }
+        }
+        if hardware {
+            fg.will_render(
+                &ShadowDepthKey.key(),
+                DEPTH_VARIANT,
+                std::sync::Arc::new(depth_pipeline),
+            );
+        }
+        let entry = if hardware {
+            "from_depth"
+        } else {
+            "from_visibility"
+        };
+        fg.will_dispatch(&Self::resolve_key(Target::Map), entry);
+        if split {
+            fg.will_dispatch(&Self::resolve_key(Target::MapOverStill), entry);
+        }
+        if matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
+            fg.will_dispatch(&MomentsKey.key(), "main");
+        }
+    }
+
     fn resolve_key(target: Target) -> ShaderKey {
         ShadowResolveKey {
             over_still: target == Target::MapOverStill,
@@ -306,31 +381,11 @@ impl ShadowMaps {
             });
         };
         let key = ShadowDepthKey.key();
-        let pipeline = cx
-            .shaders
-            .render_pipeline(&device, &key, "depth32f", |module, cache| {
-                // Both faces: open meshes (a plane) must cast too.
-                pulled_pipeline(
-                    &device,
-                    module,
-                    cache,
-                    "shadow depth",
-                    wgpu::PrimitiveState::default(),
-                    Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Less),
-                        stencil: Default::default(),
-                        // Slope-scaled bias against acne on surfaces at grazing angles.
-                        bias: wgpu::DepthBiasState {
-                            constant: 0,
-                            slope_scale: 1.5,
-                            clamp: 0.0,
-                        },
-                    }),
-                    &[],
-                )
-            })?;
+        let pipeline =
+            cx.shaders
+                .render_pipeline(&device, &key, DEPTH_VARIANT, |module, cache| {
+                    depth_pipeline(&device, module, cache)
+                })?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let mut work = Vec::new();
         for job in jobs {

@@ -191,59 +191,152 @@ struct GpuProbeFace {
 }
 
 /// The faces' pipeline for one kind of layer (`key`).
-/// A light pass adds its light to the base pass's where the base pass drew
-/// (depth equal: the same vertex code, its position `@invariant`, so the
-/// same depths), writing no depth.
 fn pipeline(
     cx: &mut PassContext<'_>,
     key: &ShaderKey,
     light: bool,
 ) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
-    let variant = if light { "rgba16f, added" } else { "rgba16f" };
-    let additive = wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::One,
-        dst_factor: wgpu::BlendFactor::One,
-        operation: wgpu::BlendOperation::Add,
-    };
-    let target = wgpu::ColorTargetState {
-        format: COLOR_FORMAT,
-        blend: light.then_some(wgpu::BlendState {
-            color: additive,
-            alpha: additive,
-        }),
-        write_mask: if light {
-            wgpu::ColorWrites::COLOR
-        } else {
-            wgpu::ColorWrites::ALL
-        },
-    };
+    let (variant, build) = pipeline_build(light);
     cx.shaders
         .render_pipeline(&device, key, variant, |module, cache| {
-            // Both sides: the faces' handedness differs, and a probe
-            // inside an object sees its inside (the shader turns each
-            // normal towards the probe).
-            pulled_pipeline(
-                &device,
-                module,
-                cache,
-                "environment probe faces",
-                wgpu::PrimitiveState::default(),
-                Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(!light),
-                    // Reversed-Z: nearer is greater.
-                    depth_compare: Some(if light {
-                        wgpu::CompareFunction::Equal
-                    } else {
-                        wgpu::CompareFunction::Greater
-                    }),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                &[Some(target)],
-            )
+            build(&device, module, cache)
         })
+}
+
+/// The faces' pipeline's variant name and how it is built (by the pass, or
+/// on a thread where the pass announced it). A light pass adds its light to
+/// the base pass's where the base pass drew (depth equal: the same vertex
+/// code, its position `@invariant`, so the same depths), writing no depth.
+fn pipeline_build(
+    light: bool,
+) -> (
+    &'static str,
+    impl Fn(&wgpu::Device, &wgpu::ShaderModule, Option<&wgpu::PipelineCache>) -> wgpu::RenderPipeline
+    + Send
+    + Sync
+    + 'static,
+) {
+    let variant = if light { "rgba16f, added" } else { "rgba16f" };
+    let build = move |device: &wgpu::Device,
+                      module: &wgpu::ShaderModule,
+                      cache: Option<&wgpu::PipelineCache>| {
+        let additive = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let target = wgpu::ColorTargetState {
+            format: COLOR_FORMAT,
+            blend: light.then_some(wgpu::BlendState {
+                color: additive,
+                alpha: additive,
+            }),
+            write_mask: if light {
+                wgpu::ColorWrites::COLOR
+            } else {
+                wgpu::ColorWrites::ALL
+            },
+        };
+        // Both sides: the faces' handedness differs, and a probe
+        // inside an object sees its inside (the shader turns each
+        // normal towards the probe).
+        pulled_pipeline(
+            device,
+            module,
+            cache,
+            "environment probe faces",
+            wgpu::PrimitiveState::default(),
+            Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(!light),
+                // Reversed-Z: nearer is greater.
+                depth_compare: Some(if light {
+                    wgpu::CompareFunction::Equal
+                } else {
+                    wgpu::CompareFunction::Greater
+                }),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            &[Some(target)],
+        )
+    };
+    (variant, build)
+}
+
+/// The faces' passes: the base pass (with the sun's shadow maps when the
+/// probe has them), then one per light buffer (`textures.spots`: its spot
+/// textures as handed to the pass).
+fn probe_passes(scene: &ProbeScene, textures: &ProbeTextures) -> Vec<ProbePass> {
+    let base = ProbePass::Base {
+        sun_shadow: scene.sun_shadow().is_some(),
+    };
+    let lights = scene.lights().iter().enumerate().map(|(index, set)| {
+        let spot_texture = textures.spots.get(index).copied().flatten().is_some();
+        light_pass(set, spot_texture)
+    });
+    std::iter::once(base).chain(lights).collect()
+}
+
+/// A light buffer's pass.
+fn light_pass(set: &super::ProbeLights, spot_texture: bool) -> ProbePass {
+    ProbePass::Light {
+        spot: set.lights.kind == crate::lighting::LightKind::Spot,
+        spot_texture,
+        shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
+    }
+}
+
+/// Layer `index`'s permutation in `pass`: its Color Texture and Normal Map
+/// as handed to the pass (a texture it was not handed is drawn without:
+/// never the case when declared together; the key follows what is bound).
+fn faces_key(
+    packed: &PackedProbe,
+    textures: &ProbeTextures,
+    index: usize,
+    pass: ProbePass,
+) -> ProbeFacesKey {
+    let color = textures.color.get(index).copied().flatten();
+    let normal = textures.normal.get(index).copied().flatten();
+    let uv = match (color, normal, packed.maps.get(index)) {
+        (None, None, _) | (_, _, None) => ProbeUv::None,
+        (_, _, Some(maps)) => maps.uv,
+    };
+    let world = packed.worlds.get(index).and_then(Option::as_ref);
+    ProbeFacesKey {
+        uv,
+        color_map: color.is_some(),
+        normal_map: normal.is_some(),
+        surface_maps: world.is_some(),
+        pass,
+        // The lobes only a light pass over a world with them draws.
+        lobes: match (pass, world) {
+            (ProbePass::Light { .. }, Some(world)) => lobes_of(world),
+            _ => ProbeLobes::default(),
+        },
+    }
+}
+
+/// Announce the faces' render pipelines (frame_graph/gather.rs): each
+/// layer with instances in each pass, as [`render`] will look them up.
+pub(crate) fn announce(
+    pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
+    scene: &ProbeScene,
+    packed: &PackedProbe,
+    textures: &ProbeTextures,
+) {
+    let passes = probe_passes(scene, textures);
+    for (index, range) in packed.ranges.iter().enumerate() {
+        if range.0 == range.1 {
+            continue;
+        }
+        for &probe_pass in &passes {
+            let key = faces_key(packed, textures, index, probe_pass).key();
+            let (variant, build) = pipeline_build(matches!(probe_pass, ProbePass::Light { .. }));
+            pass.will_render(&key, variant, std::sync::Arc::new(build));
+        }
+    }
 }
 
 /// One pipeline of the faces: the layer's instances `range`, drawn by
@@ -305,12 +398,7 @@ pub(crate) fn render(
             spot_textures,
             "environment probe",
         )?;
-        let pass = ProbePass::Light {
-            spot: set.lights.kind == crate::lighting::LightKind::Spot,
-            spot_texture: spot_textures.is_some(),
-            shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
-        };
-        light_sets.push((pass, b));
+        light_sets.push((light_pass(set, spot_textures.is_some()), b));
     }
     let (vertices, indices, _) = renderer.meshes.buffers();
     // A storage binding cannot be empty: an empty layer binds one unused instance.
@@ -356,25 +444,14 @@ pub(crate) fn render(
                 usage: wgpu::BufferUsages::UNIFORM,
             })
         });
-        layer_uniforms.push((index, uv, color, normal, world, uniform));
+        layer_uniforms.push((index, color, normal, world, uniform));
     }
-    for (index, uv, color, normal, world, uniform) in &layer_uniforms {
+    for (index, color, normal, world, uniform) in &layer_uniforms {
         let range = packed.ranges[*index];
         let passes = std::iter::once((base_pass, None))
             .chain(light_sets.iter().map(|(pass, b)| (*pass, Some(b))));
         for (pass, light) in passes {
-            let faces_key = ProbeFacesKey {
-                uv: *uv,
-                color_map: color.is_some(),
-                normal_map: normal.is_some(),
-                surface_maps: world.is_some(),
-                pass,
-                lobes: match (pass, world) {
-                    (ProbePass::Light { .. }, Some(world)) => lobes_of(world),
-                    _ => ProbeLobes::default(),
-                },
-            };
-            let key = faces_key.key();
+            let key = faces_key(packed, textures, *index, pass).key();
             let lit = matches!(pass, ProbePass::Light { .. });
             let pipeline = pipeline(cx, &key, lit)?;
             let mut b = Bindings::new()

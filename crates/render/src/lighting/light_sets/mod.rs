@@ -23,6 +23,12 @@
 //! Where a CompositeLight adds the sets' terms, the fused pass also sums
 //! them in registers and writes one pair of sums for it, and the sets' own
 //! targets only where something else reads them (`sums.rs`, [`LightSums`]).
+//!
+//! The fused shader is generated ([`GENERATOR`], named by its sets'
+//! permutations): the cold start's lists name it, so a warm start composes
+//! it and creates its pipeline on threads before the frame asks, and a first
+//! run's frame announces it where the pass is declared
+//! (`shaders/generated.rs`).
 
 mod source;
 mod sums;
@@ -44,24 +50,25 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{AsAny, Recipe, TextureRef};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Permutation, ShaderComposer};
+use crate::shaders::{GeneratedKey, Generator, Permutation, ShaderComposer, ShaderKey};
 use crate::shadows::filter::ShadowFilter;
 
 /// Whether the CookTorrance passes of one G-buffer run as one dispatch.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightFusion {
-    /// A pass per CookTorrance (every session before this one). The
-    /// default: the H200 measured Fused 1% faster a frame (emeshe-frame
-    /// 1.476 -> 1.459 ms), but its generated shader is in neither of the
-    /// cold start's lists (composed ahead, pipelines ahead), so a warm start
-    /// composes it in the frame: 244-298 -> 296-348 ms for post.ron, past
-    /// the 0.3 s target (docs/benchmarks.md, "Session 20 on the H200").
-    #[default]
+    /// A pass per CookTorrance (every session before the fused one).
     Separate,
     /// One pass for the light sets that can share it (this module).
     Fused,
     /// Fused on a GPU, separate on a CPU adapter (lavapipe runs dispatches
-    /// one at a time: a pass's ramp and tail cost it nothing to save).
+    /// one at a time: a pass's ramp and tail cost it nothing to save, and
+    /// it crashed under load with fusion forced). The default: the H200
+    /// measured fused 1% faster a frame (emeshe-frame 1.476 -> 1.459 ms);
+    /// it was held back while the generated shader was in neither of the
+    /// cold start's lists (a warm start composed it in the frame, past the
+    /// 0.3 s target: docs/benchmarks.md, "Session 20 on the H200"), which
+    /// it now is ([`GENERATOR`]).
+    #[default]
     Auto,
 }
 
@@ -296,6 +303,19 @@ pub(crate) fn declare<'a>(
             "shade 4 light sets",
         ];
         let name = PassName::new("CookTorrance").step(STEPS[members.len()]);
+        // Made on a thread while the frame records, where it is not made
+        // yet (a first run: no list names it).
+        // Summed, what the frame writes depends on what later passes read,
+        // unknown here: announce the usual case, both sums read and no set's
+        // own output (a frame that writes otherwise makes its own, and the
+        // last run's list names it the next time).
+        if fg.gathers_pipelines() {
+            let usual = Written {
+                sums: [true; 2],
+                ..Written::default()
+            };
+            fg.will_generate(generated_key(&members, summed.then_some(&usual)));
+        }
         let mut pass = fg.pass(name, members[0].owner());
         // Summed: every output is made only where something reads it (the
         // sums by a CompositeLight of these sets, the sets' own by anything).
@@ -321,19 +341,83 @@ pub(crate) fn declare<'a>(
 
 /// The generated shader's switches: each set's own renamed for its
 /// place, the shared ones (the first set's: a group's agree) once.
-fn switches(keys: &[CookTorranceKey]) -> Vec<String> {
+fn switches(keys: &[ShaderKey]) -> Vec<String> {
     let mut defs: Vec<String> = Vec::new();
     for (i, key) in keys.iter().enumerate() {
+        let (own, shared): (Vec<&'static str>, Vec<&'static str>) = key
+            .features
+            .iter()
+            .copied()
+            .partition(|f| source::SET_FEATURES.contains(f));
         if i == 0 {
-            defs.extend(shared_features(key).into_iter().map(str::to_owned));
+            defs.extend(shared.into_iter().map(str::to_owned));
         }
-        defs.extend(
-            key.features()
-                .filter(|f| source::SET_FEATURES.contains(f))
-                .map(|f| source::set_feature(i, f)),
-        );
+        defs.extend(own.into_iter().map(|f| source::set_feature(i, f)));
     }
     defs
+}
+
+/// The fused light loop as a generated shader: its parts are the sets'
+/// CookTorrance permutations, in order (`shaders/generated.rs`).
+pub static GENERATOR: Generator = Generator {
+    name: "light_sets",
+    file: <CookTorranceKey as Permutation>::FILE,
+    entry: "main",
+    compose: compose_sets,
+};
+
+/// The fused loop of `parts` (two to [`MAX_SETS`] CookTorrance
+/// permutations), and its label.
+fn compose_sets(
+    composer: &mut ShaderComposer,
+    parts: &[ShaderKey],
+    options: &[String],
+) -> Result<(String, naga::Module), RenderError> {
+    let file = <CookTorranceKey as Permutation>::FILE;
+    // The summed loop's own switches (`summed_switches`), and nothing else.
+    let known = |option: &String| {
+        ["LIGHT_SUM", "SUM_DIFFUSE", "SUM_SPECULAR"].contains(&option.as_str())
+            || (0..parts.len()).any(|i| {
+                OUTPUT_FEATURES
+                    .iter()
+                    .any(|f| *option == source::set_feature(i, f))
+            })
+    };
+    let summed = options.iter().any(|o| o == "LIGHT_SUM");
+    if let Some(unknown) = options
+        .iter()
+        .find(|o| !known(o) || (!summed && !o.is_empty()))
+    {
+        return Err(RenderError::Shader {
+            shader: "lighting/light_sets (generated)".to_owned(),
+            defs: options.join(", "),
+            message: format!("no such option of the fused light loop: {unknown}"),
+        });
+    }
+    if !(2..=MAX_SETS).contains(&parts.len()) || parts.iter().any(|p| p.path() != file.path) {
+        return Err(RenderError::Shader {
+            shader: "lighting/light_sets (generated)".to_owned(),
+            defs: String::new(),
+            message: format!(
+                "fuses 2 to {MAX_SETS} permutations of {}, not {parts:?}",
+                file.path
+            ),
+        });
+    }
+    let mut defs = switches(parts);
+    defs.extend(options.iter().cloned());
+    let label = format!("lighting/light_sets x{} [{}]", parts.len(), defs.join(", "));
+    Ok((label, compose(composer, parts.len(), &defs, summed)?))
+}
+
+/// The generated shader of `members`' sets: summed (`written`: the
+/// outputs it writes this frame) or not.
+fn generated_key(members: &[&CookTorrance], written: Option<&Written>) -> GeneratedKey {
+    GeneratedKey {
+        generator: &GENERATOR,
+        parts: members.iter().map(|m| m.shade_key().key()).collect(),
+        options: written.map_or_else(Vec::new, |w| summed_switches(members.len(), w)),
+    }
 }
 
 /// Compose the fused loop of `sets` sets with `defs` (the tests compose
@@ -479,20 +563,11 @@ fn shade(
         }
     }
     let device = cx.gpu.device.clone();
-    let (pipeline, reflection) =
-        cx.shaders
-            .generated_pipeline(&device, hasher.finish(), "main", |composer| {
-                let keys: Vec<CookTorranceKey> = members.iter().map(|m| m.shade_key()).collect();
-                let mut defs = switches(&keys);
-                if let Some(w) = &written {
-                    defs.extend(summed_switches(keys.len(), w));
-                }
-                let label = format!("lighting/light_sets x{} [{}]", keys.len(), defs.join(", "));
-                Ok((
-                    label,
-                    compose(composer, keys.len(), &defs, written.is_some())?,
-                ))
-            })?;
+    let (pipeline, reflection) = cx
+        .shaders
+        .generated_pipeline(&device, hasher.finish(), || {
+            generated_key(members, written.as_ref())
+        })?;
     let label = "CookTorrance: shade light sets";
     let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;
     let groups: smallvec::SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();

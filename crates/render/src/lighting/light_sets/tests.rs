@@ -20,6 +20,11 @@ fn set_kinds() -> Vec<CookTorranceKey> {
         .collect()
 }
 
+/// The sets' permutations, as the generator takes them.
+fn shader_keys(keys: &[CookTorranceKey]) -> Vec<ShaderKey> {
+    keys.iter().map(|k| k.key()).collect()
+}
+
 fn shares_memory(key: &CookTorranceKey) -> bool {
     matches!(
         key.lights,
@@ -56,7 +61,7 @@ fn every_kind_of_set_composes_in_a_fused_loop() {
     }
     let mut failures = Vec::new();
     for keys in &groups {
-        let defs = switches(keys);
+        let defs = switches(&shader_keys(keys));
         if let Err(e) = compose(&mut composer, keys.len(), &defs, false) {
             failures.push(format!("{defs:?}: {e}"));
         }
@@ -102,7 +107,7 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
         pick(Lights::Point(Walk::PerPixel), Some(ShadowSampling::Raw)),
     ]
     .map(with_materials);
-    let defs = switches(&keys);
+    let defs = switches(&shader_keys(&keys));
     // The shared switches once, unrenamed; each set's renamed for its place.
     for shared in [
         "MATERIALS",
@@ -200,7 +205,7 @@ fn summed_sets_write_their_sums_and_only_the_targets_asked_for() {
         some,
         every,
     ] {
-        let mut defs = switches(&keys);
+        let mut defs = switches(&shader_keys(&keys));
         defs.extend(summed_switches(keys.len(), &written));
         let module = compose(&mut composer, keys.len(), &defs, true)
             .unwrap_or_else(|e| panic!("{defs:?}: {e}"));
@@ -226,4 +231,16 @@ fn summed_sets_write_their_sums_and_only_the_targets_asked_for() {
             assert!(used(&module, var), "{var} with {defs:?}");
         }
     }
+}
+
+/// `auto`, the default, fuses on a GPU and never on a CPU adapter
+/// (lavapipe crashed under load with fusion forced).
+#[test]
+fn light_sets_fuse_by_default_on_a_gpu_only() {
+    use crate::adapter_class::AdapterClass;
+    assert_eq!(LightFusion::default(), LightFusion::Auto);
+    assert!(LightFusion::default().fuses_on(AdapterClass::Gpu));
+    assert!(!LightFusion::default().fuses_on(AdapterClass::Cpu));
+    assert!(LightFusion::Fused.fuses_on(AdapterClass::Cpu));
+    assert!(!LightFusion::Separate.fuses_on(AdapterClass::Gpu));
 }

@@ -48,6 +48,7 @@ pub mod transmission;
 use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
+use smallvec::SmallVec;
 
 pub use compute::TransparencyShading;
 pub use key::{
@@ -670,6 +671,81 @@ impl Transparency {
         (key, world)
     }
 
+    /// A layer's accumulation draws (its instances `range`), as
+    /// [`Self::accumulate`] records them and the pass announces their
+    /// pipelines: per culling variant its draws use (glTF materials, surface
+    /// maps, cull back faces unless double-sided, as other viewers draw
+    /// them; patch-built layers show both faces: a glass shell's back
+    /// through its front), each pass (the base pass, then a light pass per
+    /// light buffer `set`) with its permutation.
+    fn layer_passes(&self, layer: &Layer, range: (u32, u32)) -> SmallVec<[LayerPass; 8]> {
+        let mut passes = SmallVec::new();
+        if range.0 == range.1 {
+            return passes;
+        }
+        let (surface, world) = self.surface(layer);
+        let surface_maps = surface.maps.is_surface();
+        let transmits = self.transmits(world);
+        for culled in [true, false] {
+            let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
+            let culls = |d: &Draw| surface_maps && !d.two_sided;
+            if !self
+                .draws
+                .iter()
+                .filter(in_layer)
+                .any(|d| culls(d) == culled)
+            {
+                continue;
+            }
+            for (pass, set) in self
+                .passes(Self::matcap(world), transmits)
+                .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
+            {
+                let key = TransparencyKey {
+                    surface,
+                    pass,
+                    coat: Self::coat(world, pass),
+                    anisotropy: Self::anisotropy(surface, world, pass),
+                    sheen: Self::sheen(world, pass),
+                }
+                .key();
+                passes.push((culled, pass, set, key));
+            }
+        }
+        passes
+    }
+
+    /// Announce the accumulation's pipelines (frame_graph/gather.rs): the
+    /// layers' render pipelines, the clear and, shaded in compute, each
+    /// light buffer's shade, as the pass will look them up.
+    fn announce_accumulation(&self, pass: &mut crate::frame_graph::PassBuilder<'_, '_>) {
+        pass.will_dispatch(&TransparencyKey::COMPOSITE.key(), "clear");
+        for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
+            for (culled, kind, _, key) in self.layer_passes(layer, *range) {
+                let (variant, build) = accumulate_build(culled, kind);
+                pass.will_render(&key, variant, Arc::new(build));
+            }
+        }
+        // The froxel lists of clustered light buffers, where the base pass marked.
+        if self.lights.iter().any(|set| set.clusters.is_some()) {
+            crate::lighting::announce_assignment(pass, true);
+        }
+        if self.compute {
+            let lobes = self.recorded_lobes();
+            for light in self.light_keys() {
+                let kind = self.shade_pass(light);
+                let key = TransparencyKey {
+                    surface: TransparencyKey::COMPOSITE.surface,
+                    pass: kind,
+                    coat: lobes.coat,
+                    anisotropy: lobes.anisotropy,
+                    sheen: lobes.sheen,
+                };
+                pass.will_dispatch(&key.key(), shade_entry(kind));
+            }
+        }
+    }
+
     fn accumulate(
         &self,
         renderer: &Renderer,
@@ -726,120 +802,94 @@ impl Transparency {
             }
             let (surface, world) = self.surface(layer);
             let surface_maps = surface.maps.is_surface();
-            refracting += u64::from(self.transmits(world));
-            // glTF materials (surface maps): back faces culled unless
-            // double-sided, as other viewers draw them; patch-built layers
-            // show both faces (a glass shell's back through its front).
-            for culled in [true, false] {
-                let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
-                let culls = |d: &Draw| surface_maps && !d.two_sided;
-                if !self
-                    .draws
-                    .iter()
-                    .filter(in_layer)
-                    .any(|d| culls(d) == culled)
-                {
-                    continue;
+            let transmits = self.transmits(world);
+            refracting += u64::from(transmits);
+            for (culled, pass, set, key) in self.layer_passes(layer, *range) {
+                let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
+                let mut b = mesh_bindings(&vertices, &indices, &self.instances)
+                    .buffer("camera", self.gbuffer.camera_buffer())
+                    .texture("opaque_depth", io.depth)
+                    .buffer("params", &self.params)
+                    .buffer_opt("extras", surface.vertex_extras.then_some(&extras));
+                if let Some(world) = world {
+                    b = b.extend(world.bindings(None));
+                    if surface_maps && let Some(maps) = world.maps_bindings() {
+                        b = b.extend(maps);
+                    }
                 }
-                let transmits = self.transmits(world);
-                for (pass, set) in self
-                    .passes(Self::matcap(world), transmits)
-                    .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
-                {
-                    let key = TransparencyKey {
-                        surface,
-                        pass,
-                        coat: Self::coat(world, pass),
-                        anisotropy: Self::anisotropy(surface, world, pass),
-                        sheen: Self::sheen(world, pass),
-                    }
-                    .key();
-                    let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
-                    let mut b = mesh_bindings(&vertices, &indices, &self.instances)
-                        .buffer("camera", self.gbuffer.camera_buffer())
-                        .texture("opaque_depth", io.depth)
-                        .buffer("params", &self.params)
-                        .buffer_opt("extras", surface.vertex_extras.then_some(&extras));
-                    if let Some(world) = world {
-                        b = b.extend(world.bindings(None));
-                        if surface_maps && let Some(maps) = world.maps_bindings() {
-                            b = b.extend(maps);
-                        }
-                    }
-                    if let Some(normal) = maps.normal {
-                        b = b
-                            .texture("normal_map", normal)
-                            .sampler("normal_sampler", Sampling::LinearRepeat);
-                    }
-                    if let Some(color) = maps.color {
-                        b = b
-                            .texture("color_map", color)
-                            .sampler("color_sampler", Sampling::LinearRepeat);
-                    }
-                    if let (None, Some(images)) = (set, maps.matcap) {
-                        // Clamped: the rim of a matcap must not wrap to the far side.
-                        b = b
-                            .array("matcap_images", images)
-                            .sampler("matcap_sampler", Sampling::LinearClamp);
-                    }
-                    if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
-                        b = b.buffer("grid", grid).buffer("froxel_marks", marks);
-                    }
-                    if let (None, Some(lists)) = (set, &lists) {
-                        b = b
-                            .buffer("fragment_counts", &lists.counts)
-                            .buffer("fragment_records", &lists.records)
-                            .buffer_opt("coat_records", lists.coat.as_ref())
-                            .buffer_opt("sheen_records", lists.sheen.as_ref())
-                            .buffer_opt("anisotropy_records", lists.anisotropy.as_ref());
-                    }
-                    match (set, transmits, io.lit, &mips) {
-                        // The chain's levels, read trilinearly (RefractionKey::Mips).
-                        (None, true, _, Some((chain, sampler))) => {
-                            b = b
-                                .view("refraction_mips", cx.view_of(chain, ViewSpec::default()))
-                                .sampler_object("refraction_sampler", sampler.clone());
-                        }
-                        // Sampled by hand and clamped (RefractionKey::Taps).
-                        (None, true, Some(lit), None) => b = b.texture("lit_opaque", lit),
-                        _ => {}
-                    }
-                    if let (None, Some(environment)) = (set, &self.environment) {
-                        let maps = environment.maps_for("transparency")?;
-                        b = b
-                            .view(
-                                "prefiltered",
-                                cx.view_of(&maps.prefiltered, ViewSpec::cube()),
-                            )
-                            .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
-                            .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
-                            .sampler_object("cube_sampler", maps.sampler.clone());
-                    }
-                    if let Some(set) = set {
-                        b = b.extend(self.light_bindings(cx, set, io.spot_textures[set])?);
-                        if let Some((guard, grid)) = &guards[set] {
-                            let Some(lists) = guard.as_ref() else {
-                                continue;
-                            };
-                            b = b
-                                .buffer("grid", grid)
-                                .buffer("light_counts", &lists.counts)
-                                .buffer("light_offsets", &lists.offsets)
-                                .buffer("light_indices", &lists.indices);
-                        }
-                    }
-                    // Through the cache: the camera, meshes, kept instances,
-                    // parameters and lights are the same buffers from frame to frame.
-                    let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
-                    work.push((
-                        *range,
-                        culled,
-                        surface_maps,
-                        set.is_some(),
-                        pipeline,
-                        groups,
-                    ));
+                if let Some(normal) = maps.normal {
+                    b = b
+                        .texture("normal_map", normal)
+                        .sampler("normal_sampler", Sampling::LinearRepeat);
                 }
+                if let Some(color) = maps.color {
+                    b = b
+                        .texture("color_map", color)
+                        .sampler("color_sampler", Sampling::LinearRepeat);
+                }
+                if let (None, Some(images)) = (set, maps.matcap) {
+                    // Clamped: the rim of a matcap must not wrap to the far side.
+                    b = b
+                        .array("matcap_images", images)
+                        .sampler("matcap_sampler", Sampling::LinearClamp);
+                }
+                if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
+                    b = b.buffer("grid", grid).buffer("froxel_marks", marks);
+                }
+                if let (None, Some(lists)) = (set, &lists) {
+                    b = b
+                        .buffer("fragment_counts", &lists.counts)
+                        .buffer("fragment_records", &lists.records)
+                        .buffer_opt("coat_records", lists.coat.as_ref())
+                        .buffer_opt("sheen_records", lists.sheen.as_ref())
+                        .buffer_opt("anisotropy_records", lists.anisotropy.as_ref());
+                }
+                match (set, transmits, io.lit, &mips) {
+                    // The chain's levels, read trilinearly (RefractionKey::Mips).
+                    (None, true, _, Some((chain, sampler))) => {
+                        b = b
+                            .view("refraction_mips", cx.view_of(chain, ViewSpec::default()))
+                            .sampler_object("refraction_sampler", sampler.clone());
+                    }
+                    // Sampled by hand and clamped (RefractionKey::Taps).
+                    (None, true, Some(lit), None) => b = b.texture("lit_opaque", lit),
+                    _ => {}
+                }
+                if let (None, Some(environment)) = (set, &self.environment) {
+                    let maps = environment.maps_for("transparency")?;
+                    b = b
+                        .view(
+                            "prefiltered",
+                            cx.view_of(&maps.prefiltered, ViewSpec::cube()),
+                        )
+                        .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
+                        .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
+                        .sampler_object("cube_sampler", maps.sampler.clone());
+                }
+                if let Some(set) = set {
+                    b = b.extend(self.light_bindings(cx, set, io.spot_textures[set])?);
+                    if let Some((guard, grid)) = &guards[set] {
+                        let Some(lists) = guard.as_ref() else {
+                            continue;
+                        };
+                        b = b
+                            .buffer("grid", grid)
+                            .buffer("light_counts", &lists.counts)
+                            .buffer("light_offsets", &lists.offsets)
+                            .buffer("light_indices", &lists.indices);
+                    }
+                }
+                // Through the cache: the camera, meshes, kept instances,
+                // parameters and lights are the same buffers from frame to frame.
+                let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
+                work.push((
+                    *range,
+                    culled,
+                    surface_maps,
+                    set.is_some(),
+                    pipeline,
+                    groups,
+                ));
             }
         }
         drop(guards);
@@ -948,10 +998,7 @@ impl Transparency {
                 message: format!("no light buffer {set} to shade"),
             })?;
         let pass = self.shade_pass(light);
-        let entry = match pass {
-            TransparencyPass::ShadeTiled(_) => "shade_tiled",
-            _ => "shade",
-        };
+        let entry = shade_entry(pass);
         let lobes = lists.lobes();
         let key = TransparencyKey {
             surface: TransparencyKey::COMPOSITE.surface,
@@ -1164,9 +1211,20 @@ struct ResolveIo {
     output: Tex,
 }
 
+/// A layer's accumulation draw: culled or not, its pass, the light buffer
+/// of a light pass, and its permutation ([`Transparency::layer_passes`]).
+type LayerPass = (bool, TransparencyPass, Option<usize>, ShaderKey);
+
+/// The compute shading's entry point for a shade `pass`.
+fn shade_entry(pass: TransparencyPass) -> &'static str {
+    match pass {
+        TransparencyPass::ShadeTiled(_) => "shade_tiled",
+        _ => "shade",
+    }
+}
+
 /// The accumulation pipeline of one permutation, back faces culled when
-/// `culled`. The base pass adds (premultiplied colour, alpha) and
-/// multiplies the revealage; a light pass adds to the colour alone.
+/// `culled`.
 fn accumulate_pipeline(
     cx: &mut PassContext<'_>,
     key: ShaderKey,
@@ -1174,6 +1232,27 @@ fn accumulate_pipeline(
     pass: TransparencyPass,
 ) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
+    let (variant, build) = accumulate_build(culled, pass);
+    cx.shaders
+        .render_pipeline(&device, &key, variant, |module, cache| {
+            build(&device, module, cache)
+        })
+}
+
+/// The accumulation pipeline's variant name and how it is built (by the
+/// pass, or on a thread where the pass announced it): back faces culled
+/// when `culled`. The base pass adds (premultiplied colour, alpha) and
+/// multiplies the revealage; a light pass adds to the colour alone.
+fn accumulate_build(
+    culled: bool,
+    pass: TransparencyPass,
+) -> (
+    &'static str,
+    impl Fn(&wgpu::Device, &wgpu::ShaderModule, Option<&wgpu::PipelineCache>) -> wgpu::RenderPipeline
+    + Send
+    + Sync
+    + 'static,
+) {
     let lit = matches!(pass, TransparencyPass::Light(_));
     let variant = match (culled, lit) {
         (true, false) => "wboit, culled",
@@ -1181,60 +1260,62 @@ fn accumulate_pipeline(
         (true, true) => "wboit light, culled",
         (false, true) => "wboit light",
     };
-    cx.shaders
-        .render_pipeline(&device, &key, variant, |module, cache| {
-            let additive = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let reveal = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::OneMinusSrc,
-                operation: wgpu::BlendOperation::Add,
-            };
-            pulled_pipeline(
-                &device,
-                module,
-                cache,
-                "transparency accumulate",
-                wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: culled.then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                None,
-                &[
-                    Some(wgpu::ColorTargetState {
-                        format: ACCUMULATION,
-                        blend: Some(wgpu::BlendState {
-                            color: additive,
-                            alpha: additive,
-                        }),
-                        // A light pass adds colour; the weight sum (alpha) is the base pass's.
-                        write_mask: if lit {
-                            wgpu::ColorWrites::COLOR
-                        } else {
-                            wgpu::ColorWrites::ALL
-                        },
+    let build = move |device: &wgpu::Device,
+                      module: &wgpu::ShaderModule,
+                      cache: Option<&wgpu::PipelineCache>| {
+        let additive = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let reveal = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::Zero,
+            dst_factor: wgpu::BlendFactor::OneMinusSrc,
+            operation: wgpu::BlendOperation::Add,
+        };
+        pulled_pipeline(
+            device,
+            module,
+            cache,
+            "transparency accumulate",
+            wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: culled.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            None,
+            &[
+                Some(wgpu::ColorTargetState {
+                    format: ACCUMULATION,
+                    blend: Some(wgpu::BlendState {
+                        color: additive,
+                        alpha: additive,
                     }),
-                    Some(wgpu::ColorTargetState {
-                        format: REVEALAGE,
-                        blend: Some(wgpu::BlendState {
-                            color: reveal,
-                            alpha: reveal,
-                        }),
-                        // Only red is read, and only the base pass covers.
-                        write_mask: if lit {
-                            wgpu::ColorWrites::empty()
-                        } else {
-                            wgpu::ColorWrites::RED
-                        },
+                    // A light pass adds colour; the weight sum (alpha) is the base pass's.
+                    write_mask: if lit {
+                        wgpu::ColorWrites::COLOR
+                    } else {
+                        wgpu::ColorWrites::ALL
+                    },
+                }),
+                Some(wgpu::ColorTargetState {
+                    format: REVEALAGE,
+                    blend: Some(wgpu::BlendState {
+                        color: reveal,
+                        alpha: reveal,
                     }),
-                ],
-            )
-        })
+                    // Only red is read, and only the base pass covers.
+                    write_mask: if lit {
+                        wgpu::ColorWrites::empty()
+                    } else {
+                        wgpu::ColorWrites::RED
+                    },
+                }),
+            ],
+        )
+    };
+    (variant, build)
 }
 
 impl Recipe for Transparency {
@@ -1367,10 +1448,10 @@ impl Recipe for Transparency {
             spot_textures,
             grid,
         };
-        // The compute pipelines of the clear and the resolve, made on threads
-        // on a first frame (frame_graph/gather.rs).
+        // The pipelines of the draws, the clear and the compute shading,
+        // made on threads on a first frame (frame_graph/gather.rs).
         if pass.graph().gathers_pipelines() {
-            pass.will_dispatch(&TransparencyKey::COMPOSITE.key(), "clear");
+            self.announce_accumulation(&mut pass);
         }
         pass.run(move |cx| self.accumulate(renderer, cx, &io));
         let mut pass = fg.pass(name("resolve"), self.owner);

@@ -18,10 +18,10 @@ fn a_cache_takes_the_pipelines_made_ahead_and_a_stale_entry_is_skipped() {
         gpu.device.clone(),
         gpu.pipeline_cache().cloned(),
         vec![
-            (copy.clone(), "main".to_owned()),
-            (copy.clone(), "no_such_entry".to_owned()),
+            PipelineId::entry(&copy, "main").into(),
+            PipelineId::entry(&copy, "no_such_entry").into(),
             // Listed twice: made once.
-            (copy.clone(), "main".to_owned()),
+            PipelineId::entry(&copy, "main").into(),
         ],
         4,
     );
@@ -64,7 +64,10 @@ fn a_cache_takes_the_pipelines_made_ahead_and_a_stale_entry_is_skipped() {
     );
     assert_eq!(
         cache.compute_pipelines_used(),
-        [(copy, "main"), (other, "main")],
+        [
+            PipelineId::entry(&copy, "main"),
+            PipelineId::entry(&other, "main")
+        ],
         "what the next run's list names, in the order asked for"
     );
     assert!(
@@ -83,7 +86,7 @@ fn a_pipeline_no_thread_began_is_claimed_by_the_frame() {
     let ahead = PipelinesAhead {
         shared: Arc::new(Shared {
             slots: Mutex::new(
-                [((copy.clone(), "main".to_owned()), Slot::Queued)]
+                [(PipelineId::entry(&copy, "main"), Slot::Queued)]
                     .into_iter()
                     .collect(),
             ),
@@ -104,7 +107,10 @@ fn a_pipeline_no_thread_began_is_claimed_by_the_frame() {
         (1, 0)
     );
     assert_eq!(ahead.stats().claimed, 1);
-    assert!(ahead.take(&copy, "main").is_none(), "claimed, not queued");
+    assert!(
+        ahead.take(&PipelineId::entry(&copy, "main")).is_none(),
+        "claimed, not queued"
+    );
 }
 
 /// A frame's announced pipelines (frame_graph/gather.rs): those the cache
@@ -123,7 +129,10 @@ fn announced_pipelines_the_cache_lacks_are_made_on_threads_once() {
         .compute_pipeline(&gpu.device, &tonemap, "main")
         .expect("made by the cache");
     assert_eq!(cache.pipelines_gathered(), None, "none announced yet");
-    let announced = vec![(copy.clone(), "main"), (tonemap.clone(), "main")];
+    let announced: Vec<Job> = vec![
+        PipelineId::entry(&copy, "main").into(),
+        PipelineId::entry(&tonemap, "main").into(),
+    ];
     cache.make_ahead(&gpu.device, announced.clone());
     // Announced again (the next frame) while the threads still run: not handed twice.
     cache.make_ahead(&gpu.device, announced);
