@@ -130,23 +130,52 @@ fn the_permutation_count_is_unchanged() {
     );
 }
 
+/// Every permutation composes and validates. Each is composed: of the
+/// 27,816, 27,814 compose to different modules (measured in session 21 by
+/// preprocessing each file's switch-dependent lines with naga_oil's own
+/// preprocessor: a key's rules already leave out the switches whose code
+/// another switch compiles out), so composing only the distinct ones would
+/// save nothing. The cost is naga_oil's preprocessing and naga's parse of
+/// each permutation; docs/benchmarks.md has the figures.
 #[test]
 fn every_permutation_composes_and_validates() {
     let keys = all_permutations();
     assert!(keys.len() >= 32, "resolve alone has 2^5 permutations");
-    // Hundreds of permutations: a composer per thread, a share of the keys each.
+    let failures = validate(&keys);
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Compose and validate `keys` on every core, a composer per thread that
+/// keeps what it composes to itself ([`ShaderComposer::unshared`]): its
+/// libraries added once, the library variants it composed reused for the
+/// next permutations of the same file. The keys are handed out in blocks of
+/// neighbours (the same file, mostly the same variants of its libraries),
+/// block by block as a thread is free: the light loop's permutations cost
+/// many times a blur's, and fixed halves left one core idle for the end.
+/// The failures, each naming its permutation.
+fn validate(keys: &[ShaderKey]) -> Vec<String> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    const BLOCK: usize = 64;
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let chunk = keys.len().div_ceil(threads);
-    let failures: Vec<String> = std::thread::scope(|scope| {
-        let workers: Vec<_> = keys
-            .chunks(chunk)
-            .map(|share| {
-                scope.spawn(move || {
-                    let mut composer = ShaderComposer::new().expect("libraries compose");
-                    share
-                        .iter()
-                        .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
-                        .collect::<Vec<_>>()
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads.min(keys.len().div_ceil(BLOCK)))
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut composer = ShaderComposer::unshared().expect("libraries compose");
+                    let mut failures = Vec::new();
+                    loop {
+                        let start = next.fetch_add(BLOCK, Ordering::Relaxed);
+                        let Some(block) = keys.get(start..(start + BLOCK).min(keys.len())) else {
+                            break;
+                        };
+                        failures.extend(
+                            block
+                                .iter()
+                                .filter_map(|k| composer.compose(k).err().map(|e| e.to_string())),
+                        );
+                    }
+                    failures
                 })
             })
             .collect();
@@ -154,8 +183,58 @@ fn every_permutation_composes_and_validates() {
             .into_iter()
             .flat_map(|w| w.join().expect("no panic"))
             .collect()
-    });
-    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    })
+}
+
+/// A tiny entry shader for the validation's own test: with `USED` and
+/// `BROKEN` it reads a name it never declares.
+static FIXTURE: ShaderFile = ShaderFile {
+    path: "fixture/broken.wgsl",
+    source: "#import spreadlight::packing::safe_normalize
+
+@compute @workgroup_size(1)
+fn main() {
+    var v = vec3<f32>(1.0, 0.0, 0.0);
+#ifdef USED
+    v = safe_normalize(v, vec3<f32>(0.0, 0.0, 1.0));
+#ifdef BROKEN
+    v = undeclared_name;
+#endif
+#endif
+}
+",
+    features: &["USED", "BROKEN"],
+    library: false,
+    keys: Some(fixture_keys),
+};
+
+/// Every subset of the fixture's switches.
+fn fixture_keys() -> Vec<ShaderKey> {
+    (0u32..4)
+        .map(|mask| {
+            let features = FIXTURE
+                .features
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| mask & (1 << i) != 0)
+                .map(|(_, f)| *f);
+            ShaderKey::new(&FIXTURE, features)
+        })
+        .collect()
+}
+
+/// The exhaustive test's harness fails for a broken permutation, and only
+/// for it, naming it and the error.
+#[test]
+fn a_broken_permutation_fails_the_validation_by_name() {
+    let failures = validate(&fixture_keys());
+    assert_eq!(failures.len(), 1, "{failures:#?}");
+    let failure = &failures[0];
+    assert!(
+        failure.starts_with("shader `fixture/broken.wgsl` [BROKEN, USED]"),
+        "{failure}"
+    );
+    assert!(failure.contains("undeclared_name"), "{failure}");
 }
 
 #[test]
