@@ -33,6 +33,48 @@ impl Rule {
     }
 }
 
+/// The subsets of `features` that `rules` allow, in the order of their
+/// bitmasks (feature `i` is bit `i`). The rules are turned into masks once
+/// and each subset is checked as an integer: the light loop's 20 switches
+/// are a million subsets, and a set built for each took seconds in a debug
+/// build. Only the allowed subsets are built, and each is checked again
+/// with [`Rule::check`], the rules as written.
+fn allowed_subsets(features: &[&'static str], rules: &[Rule]) -> Vec<BTreeSet<&'static str>> {
+    let n = features.len();
+    let mask_of = |names: &[&str]| -> u32 {
+        (0..n)
+            .filter(|&i| names.contains(&features[i]))
+            .fold(0, |mask, i| mask | 1 << i)
+    };
+    // (what needs, what it needs) or (a choice, 0).
+    let masks: Vec<(bool, u32, u32)> = rules
+        .iter()
+        .map(|rule| match *rule {
+            Rule::Requires(a, b) => (true, mask_of(&[a]), mask_of(&[b])),
+            Rule::AtMostOne(set) => (false, mask_of(set), 0),
+        })
+        .collect();
+    let allowed = |mask: u32| {
+        masks.iter().all(|&(requires, a, b)| match requires {
+            true => mask & a == 0 || mask & b != 0,
+            false => (mask & a).count_ones() <= 1,
+        })
+    };
+    (0u32..1 << n)
+        .filter(|&mask| allowed(mask))
+        .map(|mask| {
+            let set: BTreeSet<&'static str> = (0..n)
+                .filter(|i| mask & (1 << i) != 0)
+                .map(|i| features[i])
+                .collect();
+            for rule in rules {
+                assert!(rule.check(&set).is_ok(), "{rule:?} refuses {set:?}");
+            }
+            set
+        })
+        .collect()
+}
+
 /// The entry shader at `path`.
 fn entry(path: &str) -> &'static ShaderFile {
     ENTRY_SHADERS
@@ -388,16 +430,7 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
             .keys
             .unwrap_or_else(|| panic!("{path} has no typed key"));
         let keyed: Vec<BTreeSet<&str>> = keyed().into_iter().map(|k| k.features).collect();
-        let n = features.len();
-        let ruled: Vec<BTreeSet<&str>> = (0u32..1 << n)
-            .map(|mask| {
-                (0..n)
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| features[i])
-                    .collect()
-            })
-            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
-            .collect();
+        let ruled = allowed_subsets(features, &rules);
         assert_eq!(keyed, ruled, "{path}");
         assert_eq!(file.features, features, "{path}");
     }
@@ -411,16 +444,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     use std::collections::BTreeSet;
     type Sets = BTreeSet<BTreeSet<&'static str>>;
     let ruled = |features: &[&'static str], rules: &[Rule]| -> Sets {
-        let n = features.len();
-        (0u32..1 << n)
-            .map(|mask| {
-                (0..n)
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| features[i])
-                    .collect::<BTreeSet<_>>()
-            })
-            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
-            .collect()
+        allowed_subsets(features, rules).into_iter().collect()
     };
     let keyed = |path: &str| -> (Sets, usize) {
         let keys = entry(path)
