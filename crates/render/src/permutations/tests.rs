@@ -33,6 +33,48 @@ impl Rule {
     }
 }
 
+/// The subsets of `features` that `rules` allow, in the order of their
+/// bitmasks (feature `i` is bit `i`). The rules are turned into masks once
+/// and each subset is checked as an integer: the light loop's 20 switches
+/// are a million subsets, and a set built for each took seconds in a debug
+/// build. Only the allowed subsets are built, and each is checked again
+/// with [`Rule::check`], the rules as written.
+fn allowed_subsets(features: &[&'static str], rules: &[Rule]) -> Vec<BTreeSet<&'static str>> {
+    let n = features.len();
+    let mask_of = |names: &[&str]| -> u32 {
+        (0..n)
+            .filter(|&i| names.contains(&features[i]))
+            .fold(0, |mask, i| mask | 1 << i)
+    };
+    // (what needs, what it needs) or (a choice, 0).
+    let masks: Vec<(bool, u32, u32)> = rules
+        .iter()
+        .map(|rule| match *rule {
+            Rule::Requires(a, b) => (true, mask_of(&[a]), mask_of(&[b])),
+            Rule::AtMostOne(set) => (false, mask_of(set), 0),
+        })
+        .collect();
+    let allowed = |mask: u32| {
+        masks.iter().all(|&(requires, a, b)| match requires {
+            true => mask & a == 0 || mask & b != 0,
+            false => (mask & a).count_ones() <= 1,
+        })
+    };
+    (0u32..1 << n)
+        .filter(|&mask| allowed(mask))
+        .map(|mask| {
+            let set: BTreeSet<&'static str> = (0..n)
+                .filter(|i| mask & (1 << i) != 0)
+                .map(|i| features[i])
+                .collect();
+            for rule in rules {
+                assert!(rule.check(&set).is_ok(), "{rule:?} refuses {set:?}");
+            }
+            set
+        })
+        .collect()
+}
+
 /// The entry shader at `path`.
 fn entry(path: &str) -> &'static ShaderFile {
     ENTRY_SHADERS
@@ -135,23 +177,52 @@ fn the_permutation_count_is_unchanged() {
     );
 }
 
+/// Every permutation composes and validates. Each is composed: of the
+/// 27,816, 27,814 compose to different modules (measured in session 21 by
+/// preprocessing each file's switch-dependent lines with naga_oil's own
+/// preprocessor: a key's rules already leave out the switches whose code
+/// another switch compiles out), so composing only the distinct ones would
+/// save nothing. The cost is naga_oil's preprocessing and naga's parse of
+/// each permutation; docs/benchmarks.md has the figures.
 #[test]
 fn every_permutation_composes_and_validates() {
     let keys = all_permutations();
     assert!(keys.len() >= 32, "resolve alone has 2^5 permutations");
-    // Hundreds of permutations: a composer per thread, a share of the keys each.
+    let failures = validate(&keys);
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Compose and validate `keys` on every core, a composer per thread that
+/// keeps what it composes to itself ([`ShaderComposer::unshared`]): its
+/// libraries added once, the library variants it composed reused for the
+/// next permutations of the same file. The keys are handed out in blocks of
+/// neighbours (the same file, mostly the same variants of its libraries),
+/// block by block as a thread is free: the light loop's permutations cost
+/// many times a blur's, and fixed halves left one core idle for the end.
+/// The failures, each naming its permutation.
+fn validate(keys: &[ShaderKey]) -> Vec<String> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    const BLOCK: usize = 64;
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let chunk = keys.len().div_ceil(threads);
-    let failures: Vec<String> = std::thread::scope(|scope| {
-        let workers: Vec<_> = keys
-            .chunks(chunk)
-            .map(|share| {
-                scope.spawn(move || {
-                    let mut composer = ShaderComposer::new().expect("libraries compose");
-                    share
-                        .iter()
-                        .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
-                        .collect::<Vec<_>>()
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads.min(keys.len().div_ceil(BLOCK)))
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut composer = ShaderComposer::unshared().expect("libraries compose");
+                    let mut failures = Vec::new();
+                    loop {
+                        let start = next.fetch_add(BLOCK, Ordering::Relaxed);
+                        let Some(block) = keys.get(start..(start + BLOCK).min(keys.len())) else {
+                            break;
+                        };
+                        failures.extend(
+                            block
+                                .iter()
+                                .filter_map(|k| composer.compose(k).err().map(|e| e.to_string())),
+                        );
+                    }
+                    failures
                 })
             })
             .collect();
@@ -159,8 +230,58 @@ fn every_permutation_composes_and_validates() {
             .into_iter()
             .flat_map(|w| w.join().expect("no panic"))
             .collect()
-    });
-    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    })
+}
+
+/// A tiny entry shader for the validation's own test: with `USED` and
+/// `BROKEN` it reads a name it never declares.
+static FIXTURE: ShaderFile = ShaderFile {
+    path: "fixture/broken.wgsl",
+    source: "#import spreadlight::packing::safe_normalize
+
+@compute @workgroup_size(1)
+fn main() {
+    var v = vec3<f32>(1.0, 0.0, 0.0);
+#ifdef USED
+    v = safe_normalize(v, vec3<f32>(0.0, 0.0, 1.0));
+#ifdef BROKEN
+    v = undeclared_name;
+#endif
+#endif
+}
+",
+    features: &["USED", "BROKEN"],
+    library: false,
+    keys: Some(fixture_keys),
+};
+
+/// Every subset of the fixture's switches.
+fn fixture_keys() -> Vec<ShaderKey> {
+    (0u32..4)
+        .map(|mask| {
+            let features = FIXTURE
+                .features
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| mask & (1 << i) != 0)
+                .map(|(_, f)| *f);
+            ShaderKey::new(&FIXTURE, features)
+        })
+        .collect()
+}
+
+/// The exhaustive test's harness fails for a broken permutation, and only
+/// for it, naming it and the error.
+#[test]
+fn a_broken_permutation_fails_the_validation_by_name() {
+    let failures = validate(&fixture_keys());
+    assert_eq!(failures.len(), 1, "{failures:#?}");
+    let failure = &failures[0];
+    assert!(
+        failure.starts_with("shader `fixture/broken.wgsl` [BROKEN, USED]"),
+        "{failure}"
+    );
+    assert!(failure.contains("undeclared_name"), "{failure}");
 }
 
 #[test]
@@ -315,16 +436,7 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
             .keys
             .unwrap_or_else(|| panic!("{path} has no typed key"));
         let keyed: Vec<BTreeSet<&str>> = keyed().into_iter().map(|k| k.features).collect();
-        let n = features.len();
-        let ruled: Vec<BTreeSet<&str>> = (0u32..1 << n)
-            .map(|mask| {
-                (0..n)
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| features[i])
-                    .collect()
-            })
-            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
-            .collect();
+        let ruled = allowed_subsets(features, &rules);
         assert_eq!(keyed, ruled, "{path}");
         assert_eq!(file.features, features, "{path}");
     }
@@ -338,16 +450,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     use std::collections::BTreeSet;
     type Sets = BTreeSet<BTreeSet<&'static str>>;
     let ruled = |features: &[&'static str], rules: &[Rule]| -> Sets {
-        let n = features.len();
-        (0u32..1 << n)
-            .map(|mask| {
-                (0..n)
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| features[i])
-                    .collect::<BTreeSet<_>>()
-            })
-            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
-            .collect()
+        allowed_subsets(features, rules).into_iter().collect()
     };
     let keyed = |path: &str| -> (Sets, usize) {
         let keys = entry(path)
