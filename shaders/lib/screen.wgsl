@@ -183,3 +183,57 @@ fn blur_tap(camera: Camera, depth: texture_2d<f32>, normals: texture_2d<f32>, bl
     let w = tap_weight(o, blur.spread, zq - blur.centre_distance, blur.reach, dot(n0, nq));
     return BlurTap(qu, w, true);
 }
+
+// The packed surface (crates/render/src/packed_surface): one RG32Uint texel
+// per pixel with what the depth-aware blurs read of the G-buffer, so a tap
+// is one texture read instead of two (depth and normals) and no inverse
+// projection. x: the view distance's f32 bits, exactly -view_position(..).z
+// (NO_SURFACE where depth is empty); y: the unit normal, octahedron-encoded
+// as two 16-bit snorms (NO_NORMAL where the G-buffer's normal has no length).
+const NO_SURFACE: u32 = 0xffffffffu;
+// pack2x16snorm writes -32767..32767, never 0x8000: free to mean "none".
+const NO_NORMAL: u32 = 0x80008000u;
+
+// `v` normalized as safe_normalize does, octahedron-encoded in 32 bits.
+fn pack_surface_normal(v: vec3<f32>) -> u32 {
+    let len2 = dot(v, v);
+    if (!(len2 > 1e-20)) {
+        return NO_NORMAL;
+    }
+    let n = v * inverseSqrt(len2);
+    let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    let folded = (1.0 - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+    return pack2x16snorm(select(folded, p, n.z >= 0.0));
+}
+
+// The unit normal a packed texel holds, or `fallback` where it holds none.
+fn surface_normal(bits: u32, fallback: vec3<f32>) -> vec3<f32> {
+    if (bits == NO_NORMAL) {
+        return fallback;
+    }
+    let e = unpack2x16snorm(bits);
+    var n = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) {
+        n = vec3<f32>((1.0 - abs(n.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), n.xy >= vec2<f32>(0.0)), n.z);
+    }
+    // The L1 norm of a decoded point is 1: never zero length.
+    return normalize(n);
+}
+
+// `blur_tap` over the packed surface: the same weight from the same view
+// distance, with the normal to 16-bit octahedron precision.
+fn packed_blur_tap(surface: texture_2d<u32>, blur: SeparableBlur, pixel: vec2<u32>, axis: vec2<i32>, o: i32, size: vec2<u32>) -> BlurTap {
+    let q = vec2<i32>(pixel) + axis * o;
+    if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+        return BlurTap(vec2<u32>(0u), 0.0, false);
+    }
+    let qu = vec2<u32>(q);
+    let s = textureLoad(surface, qu, 0).xy;
+    if (s.x == NO_SURFACE) {
+        return BlurTap(qu, 0.0, false);
+    }
+    let n0 = blur.centre_normal;
+    let nq = surface_normal(s.y, n0);
+    let w = tap_weight(o, blur.spread, bitcast<f32>(s.x) - blur.centre_distance, blur.reach, dot(n0, nq));
+    return BlurTap(qu, w, true);
+}

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::packed_surface::{self, BlurInputs};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -205,6 +206,7 @@ impl Ssgi {
             .texture("normals", io.normals)
             .texture("source", io.source)
             .texture("output", io.output)
+            .texture_opt("surface", io.surface)
             .extend(more);
         cx.dispatch_image(label, &key.key(), b, size)
     }
@@ -283,6 +285,7 @@ impl Ssgi {
             .texture_opt("ambient", ambient);
         let key = SsgiKey::Blur {
             ambient: ambient.is_some(),
+            packed: io.surface.is_some(),
         };
         self.dispatch(cx, label, key, io, more)
     }
@@ -296,6 +299,8 @@ struct PassIo {
     normals: Tex,
     source: Tex,
     output: Tex,
+    /// A blur's packed surface (crate::packed_surface), when it reads one.
+    surface: Option<Tex>,
 }
 
 /// A temporal pass's history twins and reprojection.
@@ -322,6 +327,7 @@ impl Ssgi {
             normals: pass.read(&g.normals),
             source: pass.read(source),
             output: pass.write(output, desc),
+            surface: None,
         }
     }
 
@@ -432,19 +438,31 @@ impl Recipe for Ssgi {
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
         }
-        if self.settings.blur_radius > 0 && !self.off() {
+        let blur = self.settings.blur_radius > 0 && !self.off();
+        // The taps of a blur (radius above 0) read the packed surface; the
+        // resolve alone (radius 0) reads only its own pixel.
+        let packed = blur && packed_surface::blur_inputs(renderer) == BlurInputs::Packed;
+        let surface = packed.then(|| packed_surface::declare(fg, &self.gbuffer));
+        if blur {
             let blurred = self.name("blurred");
             let mut pass = fg.pass(PassName::new("SSGI").step("blur x"), self.owner);
-            let io = self.declare_pass(&mut pass, &last, &blurred, rgba);
-            pass.will_dispatch(&SsgiKey::Blur { ambient: false }.key(), "main");
+            let mut io = self.declare_pass(&mut pass, &last, &blurred, rgba);
+            io.surface = surface.as_deref().map(|s| pass.read(s));
+            let key = SsgiKey::Blur {
+                ambient: false,
+                packed,
+            };
+            pass.will_dispatch(&key.key(), "main");
             pass.run(move |cx| self.blur(cx, &io, false, None));
             last = blurred;
         }
         let mut pass = fg.pass(PassName::new("SSGI").step("blur y"), self.owner);
-        let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
+        let mut io = self.declare_pass(&mut pass, &last, &self.output, rgba);
+        io.surface = surface.as_deref().map(|s| pass.read(s));
         let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));
         let key = SsgiKey::Blur {
             ambient: ambient.is_some(),
+            packed,
         };
         pass.will_dispatch(&key.key(), "main");
         pass.run(move |cx| self.blur(cx, &io, true, ambient));

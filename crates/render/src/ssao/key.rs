@@ -107,10 +107,19 @@ impl Permutation for DepthKey {
     }
 }
 
-/// `ssao/blur.wgsl`: one direction of the depth-aware blur; the vertical
-/// one writes the output and may multiply another AO in.
+/// `ssao/blur.wgsl`: one direction of the depth-aware blur (the vertical
+/// one writes the output and may multiply another AO in), reading each
+/// tap's surface from the G-buffer or from its packed surface
+/// (crate::packed_surface).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum BlurKey {
+pub struct BlurKey {
+    pub pass: BlurPass,
+    pub packed: bool,
+}
+
+/// Which pass of the blur.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BlurPass {
     Horizontal,
     Vertical,
     VerticalCombine,
@@ -118,26 +127,31 @@ pub enum BlurKey {
 
 impl Permutation for BlurKey {
     crate::shader_file!("ssao/blur.wgsl");
-    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE"];
+    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE", "PACKED"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
-        let (vertical, combine) = match self {
-            BlurKey::Horizontal => (false, false),
-            BlurKey::Vertical => (true, false),
-            BlurKey::VerticalCombine => (true, true),
+        let (vertical, combine) = match self.pass {
+            BlurPass::Horizontal => (false, false),
+            BlurPass::Vertical => (true, false),
+            BlurPass::VerticalCombine => (true, true),
         };
         vertical
             .then_some("VERTICAL")
             .into_iter()
             .chain(combine.then_some("COMBINE"))
+            .chain(self.packed.then_some("PACKED"))
     }
 
     fn all() -> Vec<Self> {
-        vec![
-            BlurKey::Horizontal,
-            BlurKey::Vertical,
-            BlurKey::VerticalCombine,
-        ]
+        let passes = [
+            BlurPass::Horizontal,
+            BlurPass::Vertical,
+            BlurPass::VerticalCombine,
+        ];
+        [false, true]
+            .into_iter()
+            .flat_map(|packed| passes.map(|pass| BlurKey { pass, packed }))
+            .collect()
     }
 }
 
