@@ -19,7 +19,9 @@
 // with AMBIENT (the last pass) the ambient is added. With PACKED the taps
 // read the G-buffer's packed surface (view distance and normal in one
 // RG32Uint texel, crates/render/src/packed_surface) instead of depth and
-// normals.
+// normals (PACKED comes with BLUR alone). PACKED_Z (a gather): the rays read the packed surface's view
+// z, four steps' reads at a time (screen.wgsl's march_packed): the same
+// pixels as `march`.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
@@ -31,6 +33,9 @@
 #endif
 #ifndef BLUR
 #import spreadlight::screen::{tangent_frame, interleaved_gradient_noise, cosine_direction, march}
+#ifdef PACKED_Z
+#import spreadlight::screen::march_packed
+#endif
 #endif
 
 // Per pass: which way the blur runs.
@@ -49,6 +54,9 @@ struct Axis {
 #endif
 @group(0) @binding(4) var source: texture_2d<f32>;
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+#ifdef PACKED_Z
+@group(0) @binding(11) var view_z: texture_2d<f32>;
+#endif
 #ifdef TEMPORAL
 @group(0) @binding(6) var velocity_uv: texture_2d<f32>;
 @group(0) @binding(7) var previous: texture_2d<f32>;
@@ -161,7 +169,11 @@ fn gather(pixel: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     var escaped = 0u;
     for (var i = 0u; i < params.samples; i++) {
         let dir = cosine_direction(frame, i, params.samples, noise);
+#ifdef PACKED_Z
+        let hit = march_packed(camera, view_z, origin, dir, params.radius, params.steps, jitter, params.bias);
+#else
         let hit = march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias);
+#endif
         if (hit.x >= 0) {
             gathered += clean(textureLoad(source, vec2<u32>(hit), 0).rgb);
         } else {

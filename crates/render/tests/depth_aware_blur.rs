@@ -14,7 +14,7 @@ use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
 use spreadlight_render::frame_graph::FrameGraph;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
-use spreadlight_render::packed_surface::{BlurInputs, PACKED_SURFACES, set_blur_inputs};
+use spreadlight_render::packed_surface::{PACKED_SURFACES, Reader, SurfaceInputs, set_inputs};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::Recipe;
 use spreadlight_render::renderer::Renderer;
@@ -334,9 +334,11 @@ fn the_packed_surface_blurs_as_the_gbuffer_does() {
             _ => [0.2, 0.3, 3.0, 1.0],
         })
         .collect();
-    let frame = |inputs: BlurInputs| {
+    let frame = |inputs: SurfaceInputs| {
         let renderer = test_renderer();
-        set_blur_inputs(&renderer, inputs);
+        set_inputs(&renderer, Reader::Blurs, inputs);
+        // The rays the G-buffer way in both frames: the surface is the blurs' alone.
+        set_inputs(&renderer, Reader::Rays, SurfaceInputs::GBuffer);
         let g = gbuffer(&renderer, eye(), None, SIZE);
         let settings = AoSettings {
             mode: AoMode::Stochastic,
@@ -383,8 +385,8 @@ fn the_packed_surface_blurs_as_the_gbuffer_does() {
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         (report, images)
     };
-    let (packed_report, packed) = frame(BlurInputs::Packed);
-    let (gbuffer_report, gbuffer_way) = frame(BlurInputs::GBuffer);
+    let (packed_report, packed) = frame(SurfaceInputs::Packed);
+    let (gbuffer_report, gbuffer_way) = frame(SurfaceInputs::GBuffer);
     assert_eq!(packed_report.counter(PACKED_SURFACES), 1);
     assert_eq!(packed_report.passes_of("Packed surface", None).count(), 1);
     assert_eq!(gbuffer_report.counter(PACKED_SURFACES), 0);

@@ -5,68 +5,77 @@ use crate::shaders::permutation::Permutation;
 
 /// `lighting/ssgi.wgsl`'s permutations: the gather (at full or half
 /// resolution), the temporal blend (with the gather in the same pass at full
-/// resolution), or a blur pass (adding the ambient light in the last one;
-/// `packed`: its taps read the G-buffer's packed surface, crate::packed_surface).
+/// resolution), or a blur pass (adding the ambient light in the last one).
+/// `packed`: a gather's rays read the G-buffer's packed view z, a blur's
+/// taps its packed surface (crate::packed_surface); a temporal blend alone
+/// reads neither.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SsgiKey {
-    Gather { half: bool },
-    Temporal { gather: bool },
+    Gather { half: bool, packed: bool },
+    Temporal { gather: bool, packed: bool },
     Blur { ambient: bool, packed: bool },
 }
 
 impl Permutation for SsgiKey {
     crate::shader_file!("lighting/ssgi.wgsl");
-    const FEATURES: &'static [&'static str] =
-        &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF", "PACKED"];
+    const FEATURES: &'static [&'static str] = &[
+        "TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF", "PACKED", "PACKED_Z",
+    ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
-        let on: &[&'static str] = match self {
-            SsgiKey::Gather { half: false } => &[],
-            SsgiKey::Gather { half: true } => &["HALF"],
-            SsgiKey::Temporal { gather: false } => &["TEMPORAL"],
-            SsgiKey::Temporal { gather: true } => &["TEMPORAL", "GATHER"],
-            SsgiKey::Blur {
-                ambient: false,
-                packed: false,
-            } => &["BLUR"],
-            SsgiKey::Blur {
-                ambient: true,
-                packed: false,
-            } => &["BLUR", "AMBIENT"],
-            SsgiKey::Blur {
-                ambient: false,
-                packed: true,
-            } => &["BLUR", "PACKED"],
-            SsgiKey::Blur {
-                ambient: true,
-                packed: true,
-            } => &["BLUR", "AMBIENT", "PACKED"],
+        let (on, packed): (&[&'static str], _) = match self {
+            SsgiKey::Gather { half, packed } => (
+                if half { &["HALF"] } else { &[] },
+                packed.then_some("PACKED_Z"),
+            ),
+            SsgiKey::Temporal { gather, packed } => (
+                if gather {
+                    &["TEMPORAL", "GATHER"]
+                } else {
+                    &["TEMPORAL"]
+                },
+                (gather && packed).then_some("PACKED_Z"),
+            ),
+            SsgiKey::Blur { ambient, packed } => (
+                if ambient {
+                    &["BLUR", "AMBIENT"]
+                } else {
+                    &["BLUR"]
+                },
+                packed.then_some("PACKED"),
+            ),
         };
-        on.iter().copied()
+        on.iter().copied().chain(packed)
     }
 
     fn all() -> Vec<Self> {
-        vec![
-            SsgiKey::Gather { half: false },
-            SsgiKey::Temporal { gather: false },
-            SsgiKey::Temporal { gather: true },
-            SsgiKey::Blur {
-                ambient: false,
-                packed: false,
-            },
-            SsgiKey::Blur {
-                ambient: true,
-                packed: false,
-            },
-            SsgiKey::Gather { half: true },
-            SsgiKey::Blur {
-                ambient: false,
-                packed: true,
-            },
-            SsgiKey::Blur {
-                ambient: true,
-                packed: true,
-            },
-        ]
+        let mut all = Vec::new();
+        for packed in [false, true] {
+            all.extend([
+                SsgiKey::Gather {
+                    half: false,
+                    packed,
+                },
+                SsgiKey::Temporal {
+                    gather: true,
+                    packed,
+                },
+                SsgiKey::Blur {
+                    ambient: false,
+                    packed,
+                },
+                SsgiKey::Blur {
+                    ambient: true,
+                    packed,
+                },
+                SsgiKey::Gather { half: true, packed },
+            ]);
+        }
+        // A blend alone reads no depth: one permutation.
+        all.push(SsgiKey::Temporal {
+            gather: false,
+            packed: false,
+        });
+        all
     }
 }

@@ -28,7 +28,7 @@ use crate::error::RenderError;
 use crate::finite::finite_in;
 use crate::frame_graph::{Bindings, FrameGraph, History, PassBuilder, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::packed_surface::{self, BlurInputs};
+use crate::packed_surface::{self, Reader, SurfaceInputs};
 use crate::recipe::{Recipe, TextureRef, declare_inputs, name_of, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -258,7 +258,7 @@ impl Recipe for AmbientOcclusion {
         }
         self.gbuffer.declare(renderer, fg);
         declare_inputs(renderer, fg, &self.combine);
-        let packed = packed_surface::blur_inputs(renderer) == BlurInputs::Packed;
+        let packed = packed_surface::inputs(renderer, Reader::Blurs) == SurfaceInputs::Packed;
         // SAO's depth chain is built only when SAO runs.
         let sao = self.settings.mode == AoMode::Sao && !self.off();
         let levels = if sao { &DEPTH_LEVELS[..] } else { &[] };
@@ -290,10 +290,19 @@ impl Recipe for AmbientOcclusion {
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
+        // The plain estimator's rays read the packed view z (not when off:
+        // the early exit reads nothing).
+        let view_z = (self.settings.mode == AoMode::Stochastic
+            && !self.off()
+            && packed_surface::inputs(renderer, Reader::Rays) == SurfaceInputs::Packed)
+            .then(|| packed_surface::declare(fg, &self.gbuffer).view_z);
         let mut pass = self.pass(fg, format!("raw{}", resolution.pass_suffix()));
         self.common(&mut pass);
         for &level in levels {
             pass.input(level, &self.name(level));
+        }
+        if let Some(view_z) = &view_z {
+            pass.input("view_z", view_z);
         }
         let fused = self.fused().then(|| self.history(&mut pass));
         if fused.is_none() {
@@ -316,6 +325,7 @@ impl Recipe for AmbientOcclusion {
                 (Resolution::Full, Some(_)) => AoTarget::FullTemporal,
                 (Resolution::Full, None) => AoTarget::Full,
             },
+            packed: view_z.is_some(),
         };
         pass.will_dispatch(&key.key(), "main");
         pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
@@ -365,7 +375,7 @@ impl AmbientOcclusion {
             fg.count("AO off: radius 0", 1);
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
-        let surface = (blur && packed).then(|| packed_surface::declare(fg, &self.gbuffer));
+        let surface = (blur && packed).then(|| packed_surface::declare(fg, &self.gbuffer).surface);
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
         if blur {
             let mut pass = self.pass(fg, "blur x");
