@@ -22,7 +22,7 @@ use spreadlight_reference::shadows::Sphere;
 use spreadlight_reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
-use spreadlight_render::packed_surface::{Reader, SurfaceInputs, set_inputs};
+use spreadlight_render::packed_surface::{PASS_STEP, Reader, SurfaceInputs, set_inputs};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
@@ -189,7 +189,7 @@ fn time(
             };
             // The packed surface's pass serves every blur of a frame; here it
             // is this AO's alone, so its time is the AO's.
-            let packed = pass_ms(&report, "Packed surface", None).unwrap_or(0.0);
+            let packed = pass_ms(&report, "MRE", Some(PASS_STEP)).unwrap_or(0.0);
             times.extend(pass_ms(&report, kind, None).map(|t| t + packed));
         }
     }

@@ -1,14 +1,16 @@
 //! A G-buffer's packed surface: per pixel its view distance and unit normal
 //! in one RG32Uint texel (shaders/packed_surface/pack.wgsl), written once a
-//! frame for every depth-aware blur that reads it (SSAO's, SAO's, HBAO's and
+//! frame (the G-buffer node's pass "MRE: packed surface") for every
+//! depth-aware blur that reads it (SSAO's, SAO's, HBAO's and
 //! SSGI's x and y passes).
 //!
-//! Why: on the H200 those blurs are bound by texture reads, not memory
-//! (issue 33: 0.05-0.06 ms a pass at 1080p for 27 reads a pixel at the
-//! default radius 4, about the texture units' rate). Each tap read the
-//! G-buffer's depth and normals (two reads) and turned the depth into a view
-//! distance again (an inverse projection); from the packed surface it is
-//! one read and no projection, 18 reads a pixel instead of 27, and the
+//! Why: on the H200 those blurs look bound by texture reads, not memory
+//! (issue 33: 0.05-0.06 ms a pass at 1080p for 29 reads a pixel at the
+//! default radius 4, about the texture units' rate; not yet measured
+//! otherwise). Each tap read the G-buffer's depth and normals (two reads)
+//! and turned the depth into a view distance again (an inverse projection);
+//! from the packed surface it is one read and no projection, 19 reads a
+//! pixel instead of 29, and the
 //! surface is written once for all the blurs of the frame.
 //!
 //! What it costs in accuracy: the view distance is the same f32 the blurs
@@ -50,6 +52,9 @@ pub const BLUR_INPUTS_VAR: &str = "SPREADLIGHT_BLUR_INPUTS";
 /// The same for SSAO's and SSGI's rays (`packed`: the packed view z, four
 /// steps' reads at a time; `gbuffer`: depth and an inverse projection a step).
 pub const MARCH_INPUTS_VAR: &str = "SPREADLIGHT_MARCH_INPUTS";
+
+/// The pass's step in the frame report (its kind is the G-buffer's, "MRE").
+pub const PASS_STEP: &str = "packed surface";
 
 /// Statistic: packed surfaces written this frame (one per G-buffer whose
 /// blurs read it).
@@ -189,7 +194,8 @@ pub(crate) fn declare<'a>(fg: &mut FrameGraph<'a>, gbuffer: &'a GBuffer) -> Pack
         return packed;
     }
     fg.count(PACKED_SURFACES, 1);
-    let mut pass = fg.pass(PassName::new("Packed surface"), None);
+    // A pass of the G-buffer's node: its targets, another form of them.
+    let mut pass = fg.pass(PassName::new("MRE").step(PASS_STEP), gbuffer.owner());
     pass.input("depth", depth);
     pass.input("normals", &gbuffer.targets.normals);
     let desc = |format| TextureDesc::storage(format).size(gbuffer.size);
