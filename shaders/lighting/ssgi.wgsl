@@ -19,9 +19,9 @@
 // with AMBIENT (the last pass) the ambient is added. With PACKED the taps
 // read the G-buffer's packed surface (view distance and normal in one
 // RG32Uint texel, crates/render/src/packed_surface) instead of depth and
-// normals (PACKED comes with BLUR alone). PACKED_Z (a gather): the rays read the packed surface's view
-// z, four steps' reads at a time (screen.wgsl's march_packed): the same
-// pixels as `march`.
+// normals (PACKED comes with BLUR alone). PACKED_Z (a gather): the rays
+// read the packed surface's view z, four steps' reads at a time
+// (screen.wgsl's march_packed): the same pixels as `march`.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}

@@ -34,7 +34,7 @@ impl Permutation for SsgiKey {
                 } else {
                     &["TEMPORAL"]
                 },
-                (gather && packed).then_some("PACKED_Z"),
+                packed.then_some("PACKED_Z"),
             ),
             SsgiKey::Blur { ambient, packed } => (
                 if ambient {
@@ -50,6 +50,8 @@ impl Permutation for SsgiKey {
 
     fn all() -> Vec<Self> {
         let mut all = Vec::new();
+        // (A blend alone never reads the view z: its packed twin is valid
+        // and unused, kept so the features stay independent switches.)
         for packed in [false, true] {
             all.extend([
                 SsgiKey::Gather {
@@ -69,13 +71,12 @@ impl Permutation for SsgiKey {
                     packed,
                 },
                 SsgiKey::Gather { half: true, packed },
+                SsgiKey::Temporal {
+                    gather: false,
+                    packed,
+                },
             ]);
         }
-        // A blend alone reads no depth: one permutation.
-        all.push(SsgiKey::Temporal {
-            gather: false,
-            packed: false,
-        });
         all
     }
 }
