@@ -49,34 +49,63 @@ impl Permutation for SsgiKey {
     }
 
     fn all() -> Vec<Self> {
-        let mut all = Vec::new();
-        // (A blend alone never reads the view z: its packed twin is valid
-        // and unused, kept so the features stay independent switches.)
-        for packed in [false, true] {
-            all.extend([
-                SsgiKey::Gather {
-                    half: false,
-                    packed,
-                },
-                SsgiKey::Temporal {
-                    gather: true,
-                    packed,
-                },
-                SsgiKey::Blur {
-                    ambient: false,
-                    packed,
-                },
-                SsgiKey::Blur {
-                    ambient: true,
-                    packed,
-                },
-                SsgiKey::Gather { half: true, packed },
-                SsgiKey::Temporal {
-                    gather: false,
-                    packed,
-                },
-            ]);
-        }
-        all
+        use SsgiKey::{Blur, Gather, Temporal};
+        // In the order of the feature sets as bits of FEATURES (the
+        // permutation tests hold the enumeration to it). A blend alone never
+        // reads the view z: its packed twin is valid and unused, kept so the
+        // rules stay two (PACKED with BLUR, PACKED_Z without).
+        let plain = [
+            Gather {
+                half: false,
+                packed: false,
+            },
+            Temporal {
+                gather: false,
+                packed: false,
+            },
+            Temporal {
+                gather: true,
+                packed: false,
+            },
+            Blur {
+                ambient: false,
+                packed: false,
+            },
+            Blur {
+                ambient: true,
+                packed: false,
+            },
+            Gather {
+                half: true,
+                packed: false,
+            },
+        ];
+        let packed = [
+            Blur {
+                ambient: false,
+                packed: true,
+            },
+            Blur {
+                ambient: true,
+                packed: true,
+            },
+            Gather {
+                half: false,
+                packed: true,
+            },
+            Temporal {
+                gather: false,
+                packed: true,
+            },
+            Temporal {
+                gather: true,
+                packed: true,
+            },
+            Gather {
+                half: true,
+                packed: true,
+            },
+        ];
+        plain.into_iter().chain(packed).collect()
     }
 }
