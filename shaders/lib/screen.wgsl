@@ -183,3 +183,138 @@ fn blur_tap(camera: Camera, depth: texture_2d<f32>, normals: texture_2d<f32>, bl
     let w = tap_weight(o, blur.spread, zq - blur.centre_distance, blur.reach, dot(n0, nq));
     return BlurTap(qu, w, true);
 }
+
+// The packed surface (crates/render/src/packed_surface): one RG32Uint texel
+// per pixel with what the depth-aware blurs read of the G-buffer, so a tap
+// is one texture read instead of two (depth and normals) and no inverse
+// projection. x: the view distance's f32 bits, exactly -view_position(..).z
+// (NO_SURFACE where depth is empty); y: the unit normal, octahedron-encoded
+// as two 16-bit snorms (NO_NORMAL where the G-buffer's normal has no length).
+const NO_SURFACE: u32 = 0xffffffffu;
+// pack2x16snorm writes -32767..32767, never 0x8000: free to mean "none".
+const NO_NORMAL: u32 = 0x80008000u;
+
+// `v` normalized as safe_normalize does, octahedron-encoded in 32 bits.
+fn pack_surface_normal(v: vec3<f32>) -> u32 {
+    let len2 = dot(v, v);
+    if (!(len2 > 1e-20)) {
+        return NO_NORMAL;
+    }
+    let n = v * inverseSqrt(len2);
+    let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    let folded = (1.0 - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+    return pack2x16snorm(select(folded, p, n.z >= 0.0));
+}
+
+// The unit normal a packed texel holds, or `fallback` where it holds none.
+fn surface_normal(bits: u32, fallback: vec3<f32>) -> vec3<f32> {
+    if (bits == NO_NORMAL) {
+        return fallback;
+    }
+    let e = unpack2x16snorm(bits);
+    var n = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) {
+        n = vec3<f32>((1.0 - abs(n.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), n.xy >= vec2<f32>(0.0)), n.z);
+    }
+    // The L1 norm of a decoded point is 1: never zero length.
+    return normalize(n);
+}
+
+// `blur_tap` over the packed surface: the same weight from the same view
+// distance, with the normal to 16-bit octahedron precision.
+fn packed_blur_tap(surface: texture_2d<u32>, blur: SeparableBlur, pixel: vec2<u32>, axis: vec2<i32>, o: i32, size: vec2<u32>) -> BlurTap {
+    let q = vec2<i32>(pixel) + axis * o;
+    if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+        return BlurTap(vec2<u32>(0u), 0.0, false);
+    }
+    let qu = vec2<u32>(q);
+    let s = textureLoad(surface, qu, 0).xy;
+    if (s.x == NO_SURFACE) {
+        return BlurTap(qu, 0.0, false);
+    }
+    let n0 = blur.centre_normal;
+    let nq = surface_normal(s.y, n0);
+    let w = tap_weight(o, blur.spread, bitcast<f32>(s.x) - blur.centre_distance, blur.reach, dot(n0, nq));
+    return BlurTap(qu, w, true);
+}
+
+// The packed surface's second target (R32Float): view_position(..).z of
+// every pixel, the same bits, and EMPTY_Z where depth is empty (no view z
+// reaches it). Read by `march_packed`.
+const EMPTY_Z: f32 = 3.0e38;
+
+// Step `k` of `steps` of `march`'s ray: the pixel it projects to and the
+// ray point's view z; not `on` past the ray's end or off the screen.
+struct MarchStep {
+    tap: vec2<i32>,
+    z: f32,
+    on: bool,
+}
+
+fn march_step(camera: Camera, origin: vec3<f32>, dir: vec3<f32>, radius: f32, steps: u32, jitter: f32, k: u32) -> MarchStep {
+    let size = vec2<i32>(camera.size.xy);
+    let q = origin + dir * max(radius * (f32(k) + jitter) / f32(steps), 1e-6);
+    let pr = project(camera, q);
+    let tap = vec2<i32>(floor(pr.xy));
+    let on = k < steps && pr.valid && all(tap >= vec2<i32>(0)) && all(tap < size);
+    return MarchStep(tap, q.z, on);
+}
+
+// Whether a step blocks the ray: the surface under it (view z `surface`)
+// is in front of the ray point by more than `bias` and less than `radius`.
+fn march_blocks(surface: f32, s: MarchStep, radius: f32, bias: f32) -> bool {
+    let in_front = surface - s.z;
+    return surface < EMPTY_Z && in_front > bias && in_front < radius;
+}
+
+// The view z under a step's pixel (clamped onto the image: a step that is
+// not `on` reads a texel that is never looked at).
+fn march_read(view_z: texture_2d<f32>, s: MarchStep, size: vec2<i32>) -> f32 {
+    return textureLoad(view_z, vec2<u32>(clamp(s.tap, vec2<i32>(0), size - 1)), 0).r;
+}
+
+// `march` over the packed surface's view z, four steps at a time: the four
+// pixels first, then their four reads, then the tests in order. The same
+// steps, the same z and the same tests as `march`, so the same pixel (or
+// -1); what changes is that a ray's reads are in flight together instead
+// of each waiting on the test before it, and no step turns a depth into a
+// view z. The reads of steps after a hit are made and not used.
+fn march_packed(camera: Camera, view_z: texture_2d<f32>, origin: vec3<f32>, dir: vec3<f32>, radius: f32, steps: u32, jitter: f32, bias: f32) -> vec2<i32> {
+    let size = vec2<i32>(camera.size.xy);
+    for (var k = 0u; k < steps; k += 4u) {
+        let a = march_step(camera, origin, dir, radius, steps, jitter, k);
+        let b = march_step(camera, origin, dir, radius, steps, jitter, k + 1u);
+        let c = march_step(camera, origin, dir, radius, steps, jitter, k + 2u);
+        let d = march_step(camera, origin, dir, radius, steps, jitter, k + 3u);
+        let za = march_read(view_z, a, size);
+        let zb = march_read(view_z, b, size);
+        let zc = march_read(view_z, c, size);
+        let zd = march_read(view_z, d, size);
+        // A step that is not on ends the ray (its end, or the screen's edge).
+        if (!a.on) {
+            break;
+        }
+        if (march_blocks(za, a, radius, bias)) {
+            return a.tap;
+        }
+        if (!b.on) {
+            break;
+        }
+        if (march_blocks(zb, b, radius, bias)) {
+            return b.tap;
+        }
+        if (!c.on) {
+            break;
+        }
+        if (march_blocks(zc, c, radius, bias)) {
+            return c.tap;
+        }
+        if (!d.on) {
+            break;
+        }
+        if (march_blocks(zd, d, radius, bias)) {
+            return d.tap;
+        }
+    }
+    return vec2<i32>(-1);
+}

@@ -16,15 +16,26 @@
 // gather); with GATHER it gathers this pixel first, in the same pass, so a
 // full-resolution gather writes no raw target and costs no second pass.
 // BLUR: a depth-aware separable blur of all four channels along `axis`;
-// with AMBIENT (the last pass) the ambient is added.
+// with AMBIENT (the last pass) the ambient is added. With PACKED the taps
+// read the G-buffer's packed surface (view distance and normal in one
+// RG32Uint texel, crates/render/src/packed_surface) instead of depth and
+// normals (PACKED comes with BLUR alone). PACKED_Z (a gather): the rays
+// read the packed surface's view z, four steps' reads at a time
+// (screen.wgsl's march_packed): the same pixels as `march`.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
 #ifdef BLUR
 #import spreadlight::screen::{separable_blur, blur_tap}
+#ifdef PACKED
+#import spreadlight::screen::{packed_blur_tap, surface_normal, NO_SURFACE}
+#endif
 #endif
 #ifndef BLUR
 #import spreadlight::screen::{tangent_frame, interleaved_gradient_noise, cosine_direction, march}
+#ifdef PACKED_Z
+#import spreadlight::screen::march_packed
+#endif
 #endif
 
 // Per pass: which way the blur runs.
@@ -35,10 +46,17 @@ struct Axis {
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: RayParams;
+#ifdef PACKED
+@group(0) @binding(2) var surface: texture_2d<u32>;
+#else
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
+#endif
 @group(0) @binding(4) var source: texture_2d<f32>;
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+#ifdef PACKED_Z
+@group(0) @binding(11) var view_z: texture_2d<f32>;
+#endif
 #ifdef TEMPORAL
 @group(0) @binding(6) var velocity_uv: texture_2d<f32>;
 @group(0) @binding(7) var previous: texture_2d<f32>;
@@ -93,13 +111,17 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 }
 #else
 #ifdef BLUR
-fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
-    let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
-    let blur = separable_blur(params.blur_radius, -p.z, n0);
+// The blur about a pixel at view distance `z0` with unit normal `n0`.
+fn blur_at(pixel: vec2<u32>, size: vec2<u32>, z0: f32, n0: vec3<f32>) -> vec4<f32> {
+    let blur = separable_blur(params.blur_radius, z0, n0);
     var sum = vec4<f32>(0.0);
     var weights = 0.0;
     for (var o = -blur.radius; o <= blur.radius; o++) {
+#ifdef PACKED
+        let tap = packed_blur_tap(surface, blur, pixel, axis.axis, o, size);
+#else
         let tap = blur_tap(camera, depth, normals, blur, pixel, axis.axis, o, size);
+#endif
         if (!tap.valid) {
             continue;
         }
@@ -117,6 +139,13 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     return gi;
 #endif
 }
+
+#ifndef PACKED
+fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+    let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    return blur_at(pixel, size, -p.z, n0);
+}
+#endif
 #else
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     return gather(pixel, p);
@@ -140,7 +169,11 @@ fn gather(pixel: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     var escaped = 0u;
     for (var i = 0u; i < params.samples; i++) {
         let dir = cosine_direction(frame, i, params.samples, noise);
+#ifdef PACKED_Z
+        let hit = march_packed(camera, view_z, origin, dir, params.radius, params.steps, jitter, params.bias);
+#else
         let hit = march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias);
+#endif
         if (hit.x >= 0) {
             gathered += clean(textureLoad(source, vec2<u32>(hit), 0).rgb);
         } else {
@@ -169,8 +202,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let pixel = id.xy;
 #endif
+#ifdef PACKED
+    let centre = textureLoad(surface, pixel, 0).xy;
+    let empty = centre.x == NO_SURFACE;
+#else
     let d = textureLoad(depth, pixel, 0).r;
-    if (d <= 0.0 || params.radius <= 0.0) {
+    let empty = d <= 0.0;
+#endif
+    if (empty || params.radius <= 0.0) {
 #ifdef AMBIENT
         textureStore(output, id.xy, vec4<f32>(clean(textureLoad(ambient, id.xy, 0).rgb), 1.0));
 #else
@@ -183,5 +222,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
         return;
     }
+#ifdef PACKED
+    textureStore(output, id.xy, blur_at(pixel, size, bitcast<f32>(centre.x), surface_normal(centre.y, vec3<f32>(0.0, 0.0, 1.0))));
+#else
     textureStore(output, id.xy, resolve(pixel, size, view_position(camera, pixel, d)));
+#endif
 }

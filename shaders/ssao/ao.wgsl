@@ -15,6 +15,9 @@
 // TEMPORAL (full resolution): the estimate is blended with last frame's
 // here (shaders/lib/ao_history.wgsl) and the history texel written, so
 // accumulation costs no pass of its own.
+// PACKED_Z (the plain estimator): the rays read the packed surface's view z
+// (crates/render/src/packed_surface), four steps' reads at a time
+// (screen.wgsl's march_packed): the same pixels as `march`.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position, interleaved_gradient_noise}
@@ -26,6 +29,9 @@
 #else
 #ifndef HBAO
 #import spreadlight::screen::{tangent_frame, cosine_direction, march}
+#ifdef PACKED_Z
+#import spreadlight::screen::march_packed
+#endif
 #endif
 #endif
 
@@ -33,6 +39,9 @@
 @group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
+#ifdef PACKED_Z
+@group(0) @binding(13) var view_z: texture_2d<f32>;
+#endif
 #ifdef TEMPORAL
 // The estimate blended with last frame's in this pass (full resolution):
 // the history texel (shaders/lib/ao_history.wgsl), not the raw visibility.
@@ -159,7 +168,12 @@ fn occlusion(pixel: vec2<u32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
     var blocked = 0u;
     for (var i = 0u; i < params.samples; i++) {
         let dir = cosine_direction(frame, i, params.samples, noise);
-        if (march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias).x >= 0) {
+#ifdef PACKED_Z
+        let hit = march_packed(camera, view_z, origin, dir, params.radius, params.steps, jitter, params.bias);
+#else
+        let hit = march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias);
+#endif
+        if (hit.x >= 0) {
             blocked++;
         }
     }

@@ -4,15 +4,26 @@
 // not bleed across silhouettes. Horizontal by default, VERTICAL the second
 // pass; the vertical pass writes the RGBA result and, with COMBINE,
 // multiplies another AO in. Half-width 0 is a copy.
+// PACKED: each tap's view distance and normal come from the G-buffer's
+// packed surface (one RG32Uint read, crates/render/src/packed_surface)
+// instead of depth, normals and an inverse projection.
 #import spreadlight::camera::Camera
+#ifdef PACKED
+#import spreadlight::screen::{RayParams, separable_blur, packed_blur_tap, surface_normal, NO_SURFACE}
+#else
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position, separable_blur, blur_tap}
+#endif
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var source: texture_2d<f32>;
+#ifdef PACKED
+@group(0) @binding(3) var surface: texture_2d<u32>;
+#else
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;
+#endif
 #ifdef VERTICAL
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
 #else
@@ -29,11 +40,18 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = id.xy;
-    let d0 = textureLoad(depth, pixel, 0).r;
     var v = 1.0;
+#ifdef PACKED
+    let centre = textureLoad(surface, pixel, 0).xy;
+    if (centre.x != NO_SURFACE) {
+        let z0 = bitcast<f32>(centre.x);
+        let n0 = surface_normal(centre.y, vec3<f32>(0.0, 0.0, 1.0));
+#else
+    let d0 = textureLoad(depth, pixel, 0).r;
     if (d0 > 0.0) {
         let z0 = -view_position(camera, pixel, d0).z;
         let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+#endif
 #ifdef VERTICAL
         let axis = vec2<i32>(0, 1);
 #else
@@ -43,7 +61,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         var sum = 0.0;
         var weights = 0.0;
         for (var o = -blur.radius; o <= blur.radius; o++) {
+#ifdef PACKED
+            let tap = packed_blur_tap(surface, blur, pixel, axis, o, size);
+#else
             let tap = blur_tap(camera, depth, normals, blur, pixel, axis, o, size);
+#endif
             if (!tap.valid) {
                 continue;
             }

@@ -16,6 +16,9 @@
 //! frame's own CPU, not the measurement's).
 
 use spreadlight_render::lighting::light_sets::{self, LightFusion, LightSums};
+use spreadlight_render::packed_surface::{
+    self as packed_surface, BLUR_INPUTS_VAR, MARCH_INPUTS_VAR, Reader, SurfaceInputs,
+};
 use spreadlight_render::renderer::{PassOrder, Recording, Timing};
 
 use std::path::PathBuf;
@@ -92,6 +95,17 @@ pub struct Args {
     /// SPREADLIGHT_LIGHT_SUMS says, else `on`.
     #[arg(long, value_parser = ["on", "off"])]
     light_sums: Option<String>,
+    /// What the depth-aware blurs of SSAO, SAO, HBAO and SSGI read a tap:
+    /// the G-buffer's `packed` surface (one texel) or its depth and normals
+    /// (`gbuffer`): docs/benchmarks.md, "The packed surface". Unset: what
+    /// SPREADLIGHT_BLUR_INPUTS says, else `packed`.
+    #[arg(long, value_parser = ["packed", "gbuffer"])]
+    blur_inputs: Option<String>,
+    /// What SSAO's and SSGI's rays read a step: the `packed` view z (four
+    /// steps' reads at a time) or the depth (`gbuffer`). Unset: what
+    /// SPREADLIGHT_MARCH_INPUTS says, else `packed`.
+    #[arg(long, value_parser = ["packed", "gbuffer"])]
+    march_inputs: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
     /// node's work is left out. Without it such a patch is an error.
@@ -305,6 +319,21 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         LightSums::On => "on",
         LightSums::Off => "off",
     };
+    let surface_inputs = [
+        (Reader::Blurs, &args.blur_inputs, BLUR_INPUTS_VAR),
+        (Reader::Rays, &args.march_inputs, MARCH_INPUTS_VAR),
+    ]
+    .map(|(reader, flag, var)| {
+        let inputs = match flag.as_deref().and_then(SurfaceInputs::parse) {
+            Some(inputs) => inputs,
+            // A bench must not measure another way than the one asked for.
+            None => SurfaceInputs::from_env(var).map_err(anyhow::Error::msg)?,
+        };
+        packed_surface::set_inputs(&renderer, reader, inputs);
+        anyhow::Ok(inputs.name())
+    });
+    let [blur_inputs, march_inputs] = surface_inputs;
+    let (blur_inputs, march_inputs) = (blur_inputs?, march_inputs?);
     let light_fusion = if fusion.fuses_on(renderer.gpu.adapter_class()) {
         "fused"
     } else {
@@ -454,6 +483,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "schedule": schedule,
             "light_fusion": light_fusion,
             "light_sums": light_sums,
+            "blur_inputs": blur_inputs,
+            "march_inputs": march_inputs,
             "gpu_ms_median": gpu,
             "gpu_idle_ms_median": idle,
             "cpu_ms_median": cpu,
@@ -480,7 +511,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion}, light sums {light_sums})",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion}, light sums {light_sums}, blurs read {blur_inputs}, rays {march_inputs})",
             args.patch.display(),
             args.size.0,
             args.size.1,

@@ -22,6 +22,7 @@ pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
 pub mod mip_chain;
+pub mod packed_surface;
 pub mod particles;
 pub mod permutations;
 pub mod pipeline_cache;

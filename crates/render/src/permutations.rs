@@ -36,6 +36,7 @@ pub const ENTRY_SHADERS: &[&ShaderFile] = &[
     <crate::ssao::key::AoKey as Permutation>::FILE,
     <crate::ssao::key::TemporalKey as Permutation>::FILE,
     <crate::ssao::key::BlurKey as Permutation>::FILE,
+    <crate::packed_surface::key::PackKey as Permutation>::FILE,
     <crate::environment::sky_key::SkyKey as Permutation>::FILE,
     <crate::environment::prefilter_key::PrefilterKey as Permutation>::FILE,
     <crate::environment::probe::key::ProbeFacesKey as Permutation>::FILE,

@@ -3,15 +3,23 @@
 //! Gaussian and the same weights for view-distance and normal difference
 //! (shaders/ssao/blur.wgsl, shaders/lighting/ssgi.wgsl's BLUR). At a
 //! size that is a multiple of 8 neither way, workgroups end at the image's
-//! edge.
+//! edge. The blurs read the packed surface by default (the renderer's
+//! choice, crate::packed_surface); the last test holds them to the G-buffer
+//! way within the packed normal's error.
 
 use crate::occlusion_scene;
 
 use glam::Vec3;
 use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
+use spreadlight_render::frame_graph::FrameGraph;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
+use spreadlight_render::packed_surface::{
+    PACKED_SURFACES, PASS_STEP, Reader, SurfaceInputs, set_inputs,
+};
 use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::recipe::Recipe;
+use spreadlight_render::renderer::Renderer;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 
@@ -301,4 +309,128 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
         );
         assert!(changed > 500, "{what}: the blur changed {changed} pixels");
     }
+}
+
+/// Two effects declared in one frame.
+struct Both(std::sync::Arc<AmbientOcclusion>, std::sync::Arc<Ssgi>);
+
+impl Recipe for Both {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        self.0.declare(renderer, fg);
+        self.1.declare(renderer, fg);
+    }
+}
+
+/// The blurs over the packed surface (view distance and an octahedron
+/// normal in one texel) against the G-buffer way (depth and normals per
+/// tap) on the same input: the same pixels to within the normal's 16-bit
+/// encoding (stated in docs/indirect-light.md: at most one step of a half
+/// float per pass that writes them), one packed surface for every blur of a G-buffer, and
+/// none in the G-buffer way.
+#[test]
+fn the_packed_surface_blurs_as_the_gbuffer_does() {
+    let lit: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
+        .map(|i| match (i % SIZE.0 / 3) % 3 {
+            0 => [2.0, 0.2, 0.1, 1.0],
+            1 => [0.1, 1.5, 0.3, 1.0],
+            _ => [0.2, 0.3, 3.0, 1.0],
+        })
+        .collect();
+    let frame = |inputs: SurfaceInputs| {
+        let renderer = test_renderer();
+        set_inputs(&renderer, Reader::Blurs, inputs);
+        // The rays the G-buffer way in both frames: the surface is the blurs' alone.
+        set_inputs(&renderer, Reader::Rays, SurfaceInputs::GBuffer);
+        let g = gbuffer(&renderer, eye(), None, SIZE);
+        let settings = AoSettings {
+            mode: AoMode::Stochastic,
+            radius: 1.0,
+            samples: 8,
+            steps: 8,
+            temporal_blend: 0.0,
+            blur_radius: 4,
+            ..Default::default()
+        };
+        // HBAO blurred too, multiplied in: two AO blurs on one G-buffer.
+        let hbao = AoSettings {
+            mode: AoMode::Hbao,
+            blur_radius: 2,
+            ..settings
+        };
+        let other = AmbientOcclusion::new(&renderer, Some(8), g.clone(), hbao, None);
+        let ao = AmbientOcclusion::new(
+            &renderer,
+            Some(7),
+            g.clone(),
+            settings,
+            Some(other.texture()),
+        );
+        let lit = image(&renderer, &lit, SIZE, "lit");
+        let gi = Ssgi::new(
+            &renderer,
+            Some(11),
+            g.clone(),
+            lit.texture_ref(),
+            None,
+            SsgiSettings {
+                radius: 1.0,
+                samples: 2,
+                temporal_blend: 0.0,
+                blur_radius: 5,
+                ..Default::default()
+            },
+        );
+        let read = [ao.output.as_str(), gi.output.as_str()];
+        // One recipe declares both: the AO, then the SSGI over the same G-buffer.
+        let both = Both(ao.clone(), gi.clone());
+        let (report, images) = render_and_read(&renderer, &both, SIZE, &read).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        (report, images)
+    };
+    let (packed_report, packed) = frame(SurfaceInputs::Packed);
+    let (gbuffer_report, gbuffer_way) = frame(SurfaceInputs::GBuffer);
+    assert_eq!(packed_report.counter(PACKED_SURFACES), 1);
+    assert_eq!(packed_report.passes_of("MRE", Some(PASS_STEP)).count(), 1);
+    assert_eq!(gbuffer_report.counter(PACKED_SURFACES), 0);
+    assert_eq!(gbuffer_report.passes_of("MRE", Some(PASS_STEP)).count(), 0);
+    // The outputs are half floats: a gap in the f32 sums under the normal's
+    // encoding shows, where it shows at all, as one step of a half float per
+    // pass that writes them.
+    let half_step = |v: f32| {
+        let v = v.abs();
+        if v < 6.1e-5 {
+            2f32.powi(-24)
+        } else {
+            2f32.powi(v.log2().floor() as i32 - 10)
+        }
+    };
+    let mut steps = [0.0f32; 2];
+    let mut differ = 0;
+    for (k, (a, b)) in packed.iter().zip(&gbuffer_way).enumerate() {
+        for (p, q) in a.pixels.iter().zip(&b.pixels) {
+            for c in 0..4 {
+                let gap = (p[c] - q[c]).abs() / half_step(q[c]);
+                steps[k] = steps[k].max(gap);
+                differ += usize::from(gap > 0.0);
+            }
+        }
+    }
+    let worst = steps;
+    assert!(
+        worst[0] <= 1.0,
+        "AO: packed against the G-buffer way, {} half-float steps",
+        worst[0]
+    );
+    // SSGI's x pass writes half floats too: a step there, and one in y.
+    assert!(
+        worst[1] <= 2.0,
+        "SSGI: packed against the G-buffer way, {} half-float steps",
+        worst[1]
+    );
+    eprintln!(
+        "packed surface: at most {} (AO) and {} (SSGI) half-float steps off, {differ} channels of {} differ",
+        worst[0],
+        worst[1],
+        2 * 4 * SIZE.0 * SIZE.1
+    );
 }

@@ -913,3 +913,61 @@ fn ssss_blurs_up_to_three_terms_in_one_pass_pair_with_the_images_of_one_each() {
         images[2].pixel(x, y)
     );
 }
+
+/// SSAO's and SSGI's rays over the packed view z, four steps' reads at a
+/// time (screen.wgsl's march_packed), against the G-buffer way (depth and an
+/// inverse projection a step): the same pixels, bit for bit, at full and
+/// half resolution, with the temporal blend in the pass and without, for
+/// step counts that fill the batches of four and that do not.
+#[test]
+fn rays_over_the_packed_view_z_hit_what_they_hit_over_the_depth() {
+    use spreadlight_render::packed_surface::{PACKED_SURFACES, Reader, SurfaceInputs, set_inputs};
+    let cases = [
+        (3, 0.0, Resolution::Full),
+        (8, 0.0, Resolution::Full),
+        (6, 0.9, Resolution::Full),
+        (5, 0.0, Resolution::Half),
+    ];
+    for (steps, temporal_blend, resolution) in cases {
+        let frame = |inputs: SurfaceInputs| {
+            let renderer = test_renderer();
+            set_inputs(&renderer, Reader::Rays, inputs);
+            let g = gbuffer(&renderer, eye(), None, SIZE);
+            let settings = AoSettings {
+                steps,
+                temporal_blend,
+                resolution,
+                ..single_frame(AoMode::Stochastic, 8)
+            };
+            let (report, ao, _) = ao(&renderer, g, settings, SIZE);
+            let gi = SsgiSettings {
+                radius: 1.0,
+                samples: 4,
+                steps,
+                temporal_blend,
+                blur_radius: 0,
+                resolution,
+                ..Default::default()
+            };
+            let (gi_report, gi, _) = ssgi_lit(&renderer, gi, false, 1, [1.0, 0.5, 0.25]);
+            let packed = [&report, &gi_report].map(|r| r.counter(PACKED_SURFACES));
+            (ao, gi, packed)
+        };
+        let (ao_packed, gi_packed, counted) = frame(SurfaceInputs::Packed);
+        let (ao_depth, gi_depth, none) = frame(SurfaceInputs::GBuffer);
+        let what = format!("{steps} steps, blend {temporal_blend}, {resolution}");
+        assert_eq!(counted, [1, 1], "{what}: the packed surface is written");
+        assert_eq!(none, [0, 0], "{what}: no packed surface the G-buffer way");
+        assert!(
+            ao_packed.pixels == ao_depth.pixels,
+            "{what}: SSAO differs over the packed view z"
+        );
+        assert!(
+            gi_packed.pixels == gi_depth.pixels,
+            "{what}: SSGI differs over the packed view z"
+        );
+        // Not a trivial image: the ball's contact is occluded.
+        assert!(ao_packed.pixels.iter().any(|p| p[0] < 0.5), "{what}");
+        assert!(gi_packed.pixels.iter().any(|p| p[3] < 0.5), "{what}");
+    }
+}

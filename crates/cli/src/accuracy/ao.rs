@@ -7,7 +7,11 @@
 //! frames, as a viewer would see them. Each setting at every
 //! `--resolutions` (Full, and Half: the raw estimate for one pixel in four,
 //! upsampled with depth awareness), so the table shows what half
-//! resolution saves and what it costs in error.
+//! resolution saves and what it costs in error; and at every
+//! `--surface-inputs` (packed: the blurs and rays read the G-buffer's packed
+//! surface, whose pass is timed with the AO's; gbuffer: depth and normals a
+//! tap, the exact way), so the table shows what the packed surface saves and
+//! what its 16-bit normal costs.
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -18,6 +22,7 @@ use spreadlight_reference::shadows::Sphere;
 use spreadlight_reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::packed_surface::{PASS_STEP, Reader, SurfaceInputs, set_inputs};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
@@ -54,6 +59,13 @@ pub struct AoArgs {
     /// Resolutions of the raw estimate measured (Full, Half), comma-separated.
     #[arg(long, default_value = "full,half", value_delimiter = ',', value_parser = super::parse_resolution)]
     resolutions: Vec<Resolution>,
+    /// What the blurs and rays read (packed, gbuffer), comma-separated.
+    #[arg(long, default_value = "packed", value_delimiter = ',', value_parser = parse_inputs)]
+    surface_inputs: Vec<SurfaceInputs>,
+}
+
+fn parse_inputs(s: &str) -> Result<SurfaceInputs, String> {
+    SurfaceInputs::parse(s).ok_or_else(|| format!("`{s}`: packed or gbuffer"))
 }
 
 const BALLS: [([f32; 3], f32); 4] = [
@@ -74,6 +86,7 @@ struct Row {
     samples: u32,
     temporal: bool,
     resolution: Resolution,
+    inputs: SurfaceInputs,
     ms: Option<f64>,
     error: metrics::Error,
 }
@@ -174,7 +187,10 @@ fn time(
                 AoMode::Sao => "SAO",
                 AoMode::Hbao => "HBAO",
             };
-            times.extend(pass_ms(&report, kind, None));
+            // The packed surface's pass serves every blur of a frame; here it
+            // is this AO's alone, so its time is the AO's.
+            let packed = pass_ms(&report, "MRE", Some(PASS_STEP)).unwrap_or(0.0);
+            times.extend(pass_ms(&report, kind, None).map(|t| t + packed));
         }
     }
     Ok(median(times))
@@ -242,24 +258,29 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         args.error_size,
     );
     let modes = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
-    let total = modes.len() * args.samples.len() * 2 * args.resolutions.len();
+    let total =
+        modes.len() * args.samples.len() * 2 * args.resolutions.len() * args.surface_inputs.len();
     let mut rows = Vec::new();
     // A node id per setting: each its own history.
     let mut owner = 100;
     for mode in modes {
         for temporal in [false, true] {
-            for (&samples, &resolution) in args
+            for ((&samples, &resolution), &inputs) in args
                 .samples
                 .iter()
                 .flat_map(|s| args.resolutions.iter().map(move |r| (s, r)))
+                .flat_map(|sr| args.surface_inputs.iter().map(move |i| (sr, i)))
             {
                 owner += 1;
                 eprintln!(
-                    "[{}/{total}] {} {samples}{} {resolution}",
+                    "[{}/{total}] {} {samples}{} {resolution} {}",
                     rows.len() + 1,
                     mode_name(mode),
-                    if temporal { " temporal" } else { "" }
+                    if temporal { " temporal" } else { "" },
+                    inputs.name()
                 );
+                set_inputs(&renderer, Reader::Blurs, inputs);
+                set_inputs(&renderer, Reader::Rays, inputs);
                 let s = AoSettings {
                     resolution,
                     ..settings(mode, samples, temporal, args.radius)
@@ -275,9 +296,10 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                         .map(|(p, t)| t.map(|_| p[0]))
                         .collect();
                     let name = format!(
-                        "{} {samples}{} {resolution}",
+                        "{} {samples}{} {resolution} {}",
                         mode_name(mode),
-                        if temporal { " temporal" } else { "" }
+                        if temporal { " temporal" } else { "" },
+                        inputs.name()
                     );
                     super::write_grey(dir, &name, &values, args.error_size)?;
                 }
@@ -287,6 +309,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                     samples,
                     temporal,
                     resolution,
+                    inputs,
                     ms,
                     error,
                 });
@@ -301,7 +324,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                 "{}",
                 serde_json::json!({
                     "effect": "ao", "mode": mode_name(r.mode), "samples": r.samples, "temporal": r.temporal,
-                    "resolution": r.resolution.name(),
+                    "resolution": r.resolution.name(), "surface_inputs": r.inputs.name(),
                     "adapter": adapter, "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
                     "ms": r.ms, "rmse": r.error.rmse, "ssim": r.error.ssim,
                     "no_ao_rmse": none.rmse, "no_ao_ssim": none.ssim,
@@ -315,8 +338,9 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
          error at {ew}x{eh} against ray-cast AO ({} cosine-weighted rays per pixel, radius {}): RMSE and SSIM of visibility \
          over the pixels with geometry. Steps 8, blur radius 4; temporal: blend 0.9, error after {} frames of a still \
          camera. Resolution Half: the raw estimate for one pixel in four, upsampled with depth awareness. \
-         No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
-         | estimator | samples | temporal | resolution | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|---|\n",
+         Surface packed: the blurs and rays read the packed surface (its pass timed with the AO's); gbuffer: \
+         depth and normals a tap. No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
+         | estimator | samples | temporal | resolution | surface | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|---|---|\n",
         args.common.frames,
         args.common.warmup,
         args.rays,
@@ -327,11 +351,12 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
     );
     for r in &rows {
         table.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {:.4} | {:.4} |\n",
+            "| {} | {} | {} | {} | {} | {} | {:.4} | {:.4} |\n",
             mode_name(r.mode),
             r.samples,
             if r.temporal { "on" } else { "off" },
             r.resolution,
+            r.inputs.name(),
             ms(r.ms),
             r.error.rmse,
             r.error.ssim
@@ -344,10 +369,15 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         || {
             Series::group(rows.iter().map(|r| {
                 let name = format!(
-                    "{}{}{}",
+                    "{}{}{}{}",
                     mode_name(r.mode),
                     if r.temporal { " temporal" } else { "" },
-                    if r.resolution.is_half() { " half" } else { "" }
+                    if r.resolution.is_half() { " half" } else { "" },
+                    if r.inputs == SurfaceInputs::GBuffer {
+                        " gbuffer"
+                    } else {
+                        ""
+                    }
                 );
                 (
                     name,

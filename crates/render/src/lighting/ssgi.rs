@@ -13,6 +13,7 @@ use std::sync::Arc;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::packed_surface::{self, Reader, SurfaceInputs};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -195,7 +196,7 @@ impl Ssgi {
         more: Bindings<'_>,
     ) -> Result<(), RenderError> {
         let mut size = self.gbuffer.pixel_size(cx.output_size);
-        if key == (SsgiKey::Gather { half: true }) {
+        if let SsgiKey::Gather { half: true, .. } = key {
             size = Resolution::Half.pixels(size);
         }
         let b = Bindings::new()
@@ -205,6 +206,8 @@ impl Ssgi {
             .texture("normals", io.normals)
             .texture("source", io.source)
             .texture("output", io.output)
+            .texture_opt("surface", io.surface)
+            .texture_opt("view_z", io.view_z)
             .extend(more);
         cx.dispatch_image(label, &key.key(), b, size)
     }
@@ -221,7 +224,11 @@ impl Ssgi {
     fn raw(&self, cx: &mut PassContext<'_>, io: &PassIo) -> Result<(), RenderError> {
         self.begin_frame(cx);
         let half = self.settings.resolution.is_half();
-        self.dispatch(cx, "ssgi", SsgiKey::Gather { half }, io, Bindings::new())
+        let key = SsgiKey::Gather {
+            half,
+            packed: io.view_z.is_some(),
+        };
+        self.dispatch(cx, "ssgi", key, io, Bindings::new())
     }
 
     /// Full resolution: the gather and the temporal blend in one pass
@@ -263,7 +270,11 @@ impl Ssgi {
             .texture("previous_distance", t.previous_distance)
             .texture("distance", t.distance)
             .buffer("fresh", self.rays.fresh(fresh));
-        self.dispatch(cx, label, SsgiKey::Temporal { gather }, io, more)
+        let key = SsgiKey::Temporal {
+            gather,
+            packed: io.view_z.is_some(),
+        };
+        self.dispatch(cx, label, key, io, more)
     }
 
     fn blur(
@@ -283,6 +294,7 @@ impl Ssgi {
             .texture_opt("ambient", ambient);
         let key = SsgiKey::Blur {
             ambient: ambient.is_some(),
+            packed: io.surface.is_some(),
         };
         self.dispatch(cx, label, key, io, more)
     }
@@ -296,6 +308,10 @@ struct PassIo {
     normals: Tex,
     source: Tex,
     output: Tex,
+    /// A blur's packed surface (crate::packed_surface), when it reads one.
+    surface: Option<Tex>,
+    /// A gather's packed view z, when its rays read it.
+    view_z: Option<Tex>,
 }
 
 /// A temporal pass's history twins and reprojection.
@@ -322,6 +338,8 @@ impl Ssgi {
             normals: pass.read(&g.normals),
             source: pass.read(source),
             output: pass.write(output, desc),
+            surface: None,
+            view_z: None,
         }
     }
 
@@ -362,7 +380,8 @@ impl Ssgi {
 impl Ssgi {
     /// The gather (full or half resolution, upsampled), then the temporal
     /// blend in its own pass when there is one; returns what the blur reads.
-    fn declare_unfused<'a>(&'a self, fg: &mut FrameGraph<'a>) -> String {
+    /// `view_z`: the packed view z the gather's rays read.
+    fn declare_unfused<'a>(&'a self, fg: &mut FrameGraph<'a>, view_z: Option<&str>) -> String {
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let raw = self.name("raw");
         let resolution = self.settings.resolution;
@@ -372,14 +391,18 @@ impl Ssgi {
             PassName::new("SSGI").step(format!("gather{}", resolution.pass_suffix())),
             self.owner,
         );
-        let io = self.declare_pass(
+        let mut io = self.declare_pass(
             &mut pass,
             &self.source.name,
             &raw_target,
             rgba.size(resolution.size_rule(self.gbuffer.size, pixels)),
         );
-        let half = resolution.is_half();
-        pass.will_dispatch(&SsgiKey::Gather { half }.key(), "main");
+        io.view_z = view_z.map(|v| pass.read(v));
+        let key = SsgiKey::Gather {
+            half: resolution.is_half(),
+            packed: io.view_z.is_some(),
+        };
+        pass.will_dispatch(&key.key(), "main");
         pass.run(move |cx| self.raw(cx, &io));
         declare_upsample(
             fg,
@@ -402,7 +425,11 @@ impl Ssgi {
         }
         let mut pass = fg.pass(PassName::new("SSGI").step("temporal"), self.owner);
         let (io, t) = self.declare_temporal(&mut pass, &raw);
-        pass.will_dispatch(&SsgiKey::Temporal { gather: false }.key(), "main");
+        let key = SsgiKey::Temporal {
+            gather: false,
+            packed: false,
+        };
+        pass.will_dispatch(&key.key(), "main");
         pass.run(move |cx| self.temporal_pass(cx, false, &io, &t));
         self.history_name()
     }
@@ -419,32 +446,54 @@ impl Recipe for Ssgi {
             a.recipe.declare(renderer, fg);
         }
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        // The rays read the packed view z (not when off: the early exit reads nothing).
+        let view_z = (!self.off()
+            && packed_surface::inputs(renderer, Reader::Rays) == SurfaceInputs::Packed)
+            .then(|| packed_surface::declare(fg, &self.gbuffer).view_z);
         let source = if self.fused() {
             let mut pass = fg.pass(PassName::new("SSGI").step("gather"), self.owner);
-            let (io, t) = self.declare_temporal(&mut pass, &self.source.name);
-            pass.will_dispatch(&SsgiKey::Temporal { gather: true }.key(), "main");
+            let (mut io, t) = self.declare_temporal(&mut pass, &self.source.name);
+            io.view_z = view_z.as_deref().map(|v| pass.read(v));
+            let key = SsgiKey::Temporal {
+                gather: true,
+                packed: io.view_z.is_some(),
+            };
+            pass.will_dispatch(&key.key(), "main");
             pass.run(move |cx| self.gather_temporal(cx, &io, &t));
             self.history_name()
         } else {
-            self.declare_unfused(fg)
+            self.declare_unfused(fg, view_z.as_deref())
         };
         let mut last = source;
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
         }
-        if self.settings.blur_radius > 0 && !self.off() {
+        let blur = self.settings.blur_radius > 0 && !self.off();
+        // The taps of a blur (radius above 0) read the packed surface; the
+        // resolve alone (radius 0) reads only its own pixel.
+        let packed =
+            blur && packed_surface::inputs(renderer, Reader::Blurs) == SurfaceInputs::Packed;
+        let surface = packed.then(|| packed_surface::declare(fg, &self.gbuffer).surface);
+        if blur {
             let blurred = self.name("blurred");
             let mut pass = fg.pass(PassName::new("SSGI").step("blur x"), self.owner);
-            let io = self.declare_pass(&mut pass, &last, &blurred, rgba);
-            pass.will_dispatch(&SsgiKey::Blur { ambient: false }.key(), "main");
+            let mut io = self.declare_pass(&mut pass, &last, &blurred, rgba);
+            io.surface = surface.as_deref().map(|s| pass.read(s));
+            let key = SsgiKey::Blur {
+                ambient: false,
+                packed,
+            };
+            pass.will_dispatch(&key.key(), "main");
             pass.run(move |cx| self.blur(cx, &io, false, None));
             last = blurred;
         }
         let mut pass = fg.pass(PassName::new("SSGI").step("blur y"), self.owner);
-        let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
+        let mut io = self.declare_pass(&mut pass, &last, &self.output, rgba);
+        io.surface = surface.as_deref().map(|s| pass.read(s));
         let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));
         let key = SsgiKey::Blur {
             ambient: ambient.is_some(),
+            packed,
         };
         pass.will_dispatch(&key.key(), "main");
         pass.run(move |cx| self.blur(cx, &io, true, ambient));

@@ -162,9 +162,9 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 /// combinations to list; its own tests compose every kind of set.
 #[test]
 fn the_permutation_count_is_unchanged() {
-    assert_eq!(ENTRY_SHADERS.len(), 46);
+    assert_eq!(ENTRY_SHADERS.len(), 47);
     let count = all_permutations().len();
-    assert_eq!(count, 30_673);
+    assert_eq!(count, 30_686);
     let doc = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../docs/architecture.md"
@@ -420,13 +420,18 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ),
         (
             "lighting/ssgi.wgsl",
-            &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
+            &[
+                "TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF", "PACKED", "PACKED_Z",
+            ],
             vec![
                 Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
                 Rule::Requires("AMBIENT", "BLUR"),
                 Rule::Requires("GATHER", "TEMPORAL"),
                 Rule::AtMostOne(&["HALF", "TEMPORAL"]),
                 Rule::AtMostOne(&["HALF", "BLUR"]),
+                // The packed surface (ao21): a blur's taps, or a gather's rays.
+                Rule::Requires("PACKED", "BLUR"),
+                Rule::AtMostOne(&["PACKED_Z", "BLUR"]),
             ],
         ),
     ];

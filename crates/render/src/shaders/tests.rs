@@ -127,6 +127,7 @@ fn a_feature_set_no_typed_key_has_is_refused() {
     let half = AoKey {
         estimator: crate::ssao::AoMode::Hbao,
         target: AoTarget::Half,
+        packed: false,
     };
     assert!(ao.check(&half.key().features).is_ok());
 }

@@ -43,6 +43,9 @@ pub struct AoKey {
     /// early exit writes 1.
     pub estimator: AoMode,
     pub target: AoTarget,
+    /// The plain estimator's rays read the packed surface's view z
+    /// (crate::packed_surface); the other estimators never do.
+    pub packed: bool,
 }
 
 /// Where the raw estimate goes.
@@ -58,7 +61,7 @@ pub enum AoTarget {
 
 impl Permutation for AoKey {
     crate::shader_file!("ssao/ao.wgsl");
-    const FEATURES: &'static [&'static str] = &["SAO", "HBAO", "HALF", "TEMPORAL"];
+    const FEATURES: &'static [&'static str] = &["SAO", "HBAO", "HALF", "TEMPORAL", "PACKED_Z"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
         let estimator = match self.estimator {
@@ -71,15 +74,29 @@ impl Permutation for AoKey {
             AoTarget::FullTemporal => Some("TEMPORAL"),
             AoTarget::Half => Some("HALF"),
         };
-        estimator.into_iter().chain(target)
+        estimator
+            .into_iter()
+            .chain(target)
+            .chain(self.packed.then_some("PACKED_Z"))
     }
 
     fn all() -> Vec<Self> {
         let estimators = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
         let targets = [AoTarget::Full, AoTarget::FullTemporal, AoTarget::Half];
-        estimators
+        let plain = |packed| {
+            move |(estimator, target)| AoKey {
+                estimator,
+                target,
+                packed,
+            }
+        };
+        let every = estimators
             .into_iter()
-            .flat_map(|estimator| targets.map(|target| AoKey { estimator, target }))
+            .flat_map(|estimator| targets.map(|target| (estimator, target)));
+        let packed = targets.map(|target| (AoMode::Stochastic, target));
+        every
+            .map(plain(false))
+            .chain(packed.into_iter().map(plain(true)))
             .collect()
     }
 }
@@ -107,10 +124,19 @@ impl Permutation for DepthKey {
     }
 }
 
-/// `ssao/blur.wgsl`: one direction of the depth-aware blur; the vertical
-/// one writes the output and may multiply another AO in.
+/// `ssao/blur.wgsl`: one direction of the depth-aware blur (the vertical
+/// one writes the output and may multiply another AO in), reading each
+/// tap's surface from the G-buffer or from its packed surface
+/// (crate::packed_surface).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum BlurKey {
+pub struct BlurKey {
+    pub pass: BlurPass,
+    pub packed: bool,
+}
+
+/// Which pass of the blur.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BlurPass {
     Horizontal,
     Vertical,
     VerticalCombine,
@@ -118,26 +144,31 @@ pub enum BlurKey {
 
 impl Permutation for BlurKey {
     crate::shader_file!("ssao/blur.wgsl");
-    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE"];
+    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE", "PACKED"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
-        let (vertical, combine) = match self {
-            BlurKey::Horizontal => (false, false),
-            BlurKey::Vertical => (true, false),
-            BlurKey::VerticalCombine => (true, true),
+        let (vertical, combine) = match self.pass {
+            BlurPass::Horizontal => (false, false),
+            BlurPass::Vertical => (true, false),
+            BlurPass::VerticalCombine => (true, true),
         };
         vertical
             .then_some("VERTICAL")
             .into_iter()
             .chain(combine.then_some("COMBINE"))
+            .chain(self.packed.then_some("PACKED"))
     }
 
     fn all() -> Vec<Self> {
-        vec![
-            BlurKey::Horizontal,
-            BlurKey::Vertical,
-            BlurKey::VerticalCombine,
-        ]
+        let passes = [
+            BlurPass::Horizontal,
+            BlurPass::Vertical,
+            BlurPass::VerticalCombine,
+        ];
+        [false, true]
+            .into_iter()
+            .flat_map(|packed| passes.map(|pass| BlurKey { pass, packed }))
+            .collect()
     }
 }
 

@@ -28,6 +28,7 @@ use crate::error::RenderError;
 use crate::finite::finite_in;
 use crate::frame_graph::{Bindings, FrameGraph, History, PassBuilder, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::packed_surface::{self, Reader, SurfaceInputs};
 use crate::recipe::{Recipe, TextureRef, declare_inputs, name_of, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -39,7 +40,7 @@ use crate::temporal::{RayParams, RayUniforms};
 
 // The keys declare their shader files and need nothing of the pass.
 pub(crate) mod key;
-pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey};
+pub use key::{AoKey, AoMode, AoTarget, BlurKey, BlurPass, DepthKey, TemporalKey};
 
 /// Every AO pin; out-of-range values are clamped where the recipe is made.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -185,6 +186,19 @@ impl AmbientOcclusion {
         });
     }
 
+    /// What a blur pass reads of the surface: the packed surface when given
+    /// (and then not the G-buffer's depth and normals), else [`Self::common`].
+    fn blur_inputs<'a>(&'a self, pass: &mut PassBuilder<'_, 'a>, surface: Option<&str>) {
+        let Some(surface) = surface else {
+            return self.common(pass);
+        };
+        pass.input("surface", surface);
+        pass.bind(|b| {
+            b.buffer("camera", self.gbuffer.camera_buffer())
+                .buffer("params", self.rays.params())
+        });
+    }
+
     /// The history and its twin, last frame's (see TextureDesc::history),
     /// with the velocity that reprojects it.
     fn history<'a>(&'a self, pass: &mut PassBuilder<'_, 'a>) -> History {
@@ -244,6 +258,7 @@ impl Recipe for AmbientOcclusion {
         }
         self.gbuffer.declare(renderer, fg);
         declare_inputs(renderer, fg, &self.combine);
+        let packed = packed_surface::inputs(renderer, Reader::Blurs) == SurfaceInputs::Packed;
         // SAO's depth chain is built only when SAO runs.
         let sao = self.settings.mode == AoMode::Sao && !self.off();
         let levels = if sao { &DEPTH_LEVELS[..] } else { &[] };
@@ -275,10 +290,19 @@ impl Recipe for AmbientOcclusion {
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
+        // The plain estimator's rays read the packed view z (not when off:
+        // the early exit reads nothing).
+        let view_z = (self.settings.mode == AoMode::Stochastic
+            && !self.off()
+            && packed_surface::inputs(renderer, Reader::Rays) == SurfaceInputs::Packed)
+            .then(|| packed_surface::declare(fg, &self.gbuffer).view_z);
         let mut pass = self.pass(fg, format!("raw{}", resolution.pass_suffix()));
         self.common(&mut pass);
         for &level in levels {
             pass.input(level, &self.name(level));
+        }
+        if let Some(view_z) = &view_z {
+            pass.input("view_z", view_z);
         }
         let fused = self.fused().then(|| self.history(&mut pass));
         if fused.is_none() {
@@ -301,12 +325,13 @@ impl Recipe for AmbientOcclusion {
                 (Resolution::Full, Some(_)) => AoTarget::FullTemporal,
                 (Resolution::Full, None) => AoTarget::Full,
             },
+            packed: view_z.is_some(),
         };
         pass.will_dispatch(&key.key(), "main");
         pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
         if fused.is_some() {
             // The estimate and its accumulation in one pass: straight to the blur.
-            return self.declare_blur(fg, self.history_name());
+            return self.declare_blur(fg, self.history_name(), packed);
         }
         declare_upsample(
             fg,
@@ -325,7 +350,7 @@ impl Recipe for AmbientOcclusion {
             },
         );
         if !self.temporal() {
-            return self.declare_blur(fg, raw);
+            return self.declare_blur(fg, raw, packed);
         }
         let mut pass = self.pass(fg, "temporal");
         pass.input("raw", &raw);
@@ -337,29 +362,35 @@ impl Recipe for AmbientOcclusion {
             let size = self.gbuffer.pixel_size(cx.output_size);
             cx.dispatch_image("ao temporal", &TemporalKey.key(), b, size)
         });
-        self.declare_blur(fg, self.history_name());
+        self.declare_blur(fg, self.history_name(), packed);
     }
 }
 
 impl AmbientOcclusion {
     /// The depth-aware blur of `source` (x then y), or with no blur the
     /// resolve; the last pass writes the output (and multiplies `combine` in).
-    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String) {
+    /// `packed`: the taps read the G-buffer's packed surface (crate::packed_surface).
+    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, packed: bool) {
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
+        let surface = (blur && packed).then(|| packed_surface::declare(fg, &self.gbuffer).surface);
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
         if blur {
             let mut pass = self.pass(fg, "blur x");
             pass.input("source", &source);
-            self.common(&mut pass);
+            self.blur_inputs(&mut pass, surface.as_deref());
             pass.output("output", &self.name("blurred"), full(R32));
-            pass.dispatch_image("ao blur x", BlurKey::Horizontal.key(), self.gbuffer.size);
+            let key = BlurKey {
+                pass: BlurPass::Horizontal,
+                packed: surface.is_some(),
+            };
+            pass.dispatch_image("ao blur x", key.key(), self.gbuffer.size);
             source = self.name("blurred");
         }
         let mut pass = self.pass(fg, if blur { "blur y" } else { "resolve" });
-        self.common(&mut pass);
+        self.blur_inputs(&mut pass, surface.as_deref());
         let combine = pass.input_opt("combine", name_of(&self.combine));
         pass.input("source", &source);
         pass.output(
@@ -367,9 +398,12 @@ impl AmbientOcclusion {
             &self.output,
             full(wgpu::TextureFormat::Rgba16Float),
         );
-        let key = match combine {
-            None => BlurKey::Vertical,
-            Some(_) => BlurKey::VerticalCombine,
+        let key = BlurKey {
+            pass: match combine {
+                None => BlurPass::Vertical,
+                Some(_) => BlurPass::VerticalCombine,
+            },
+            packed: surface.is_some(),
         };
         pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
     }
