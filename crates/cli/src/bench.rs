@@ -92,18 +92,18 @@ pub struct Args {
     /// of targets written and read, the sets' own made only where something
     /// else reads them) or write each set's targets (`off`):
     /// docs/benchmarks.md, "Light sets summed". Unset: what
-    /// SPREADLIGHT_LIGHT_SUMS says, else `on`.
+    /// SPREADLIGHT_LIGHT_SUMS says, else `off`.
     #[arg(long, value_parser = ["on", "off"])]
     light_sums: Option<String>,
     /// What the depth-aware blurs of SSAO, SAO, HBAO and SSGI read a tap:
     /// the G-buffer's `packed` surface (one texel) or its depth and normals
     /// (`gbuffer`): docs/benchmarks.md, "The packed surface". Unset: what
-    /// SPREADLIGHT_BLUR_INPUTS says, else `packed`.
+    /// SPREADLIGHT_BLUR_INPUTS says, else `gbuffer`.
     #[arg(long, value_parser = ["packed", "gbuffer"])]
     blur_inputs: Option<String>,
     /// What SSAO's and SSGI's rays read a step: the `packed` view z (four
     /// steps' reads at a time) or the depth (`gbuffer`). Unset: what
-    /// SPREADLIGHT_MARCH_INPUTS says, else `packed`.
+    /// SPREADLIGHT_MARCH_INPUTS says, else `gbuffer`.
     #[arg(long, value_parser = ["packed", "gbuffer"])]
     march_inputs: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader

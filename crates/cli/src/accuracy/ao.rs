@@ -60,7 +60,7 @@ pub struct AoArgs {
     #[arg(long, default_value = "full,half", value_delimiter = ',', value_parser = super::parse_resolution)]
     resolutions: Vec<Resolution>,
     /// What the blurs and rays read (packed, gbuffer), comma-separated.
-    #[arg(long, default_value = "packed", value_delimiter = ',', value_parser = parse_inputs)]
+    #[arg(long, default_value = "gbuffer", value_delimiter = ',', value_parser = parse_inputs)]
     surface_inputs: Vec<SurfaceInputs>,
 }
 
@@ -295,11 +295,16 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                         .zip(&truth)
                         .map(|(p, t)| t.map(|_| p[0]))
                         .collect();
+                    // The default inputs keep the names images had before
+                    // there was a choice.
                     let name = format!(
-                        "{} {samples}{} {resolution} {}",
+                        "{} {samples}{} {resolution}{}",
                         mode_name(mode),
                         if temporal { " temporal" } else { "" },
-                        inputs.name()
+                        match inputs {
+                            SurfaceInputs::GBuffer => String::new(),
+                            other => format!(" {}", other.name()),
+                        }
                     );
                     super::write_grey(dir, &name, &values, args.error_size)?;
                 }

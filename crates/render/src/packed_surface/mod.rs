@@ -65,11 +65,15 @@ pub const PACKED_SURFACES: &str = "packed surfaces written";
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SurfaceInputs {
     /// The packed surface: one RG32Uint read a blur tap, one R32Float read
-    /// a ray step, written once a frame.
-    #[default]
+    /// a ray step, written once a frame. Not the default: measured slower
+    /// on the H200 (post.ron's frame span 2.446 ms against 2.408 reading
+    /// the G-buffer, session 21, docs/benchmarks.md "Session 21 on the
+    /// H200"): the blurs' and rays' reads hit the texture cache either way,
+    /// and the packing pass costs more than the projections it saves.
     Packed,
     /// The G-buffer's depth (and normals), an inverse projection a tap or
     /// step (the blurs and rays before the packed surface).
+    #[default]
     GBuffer,
 }
 
@@ -229,6 +233,6 @@ mod tests {
             Some(SurfaceInputs::GBuffer)
         );
         assert_eq!(SurfaceInputs::parse("tiled"), None);
-        assert_eq!(SurfaceInputs::default(), SurfaceInputs::Packed);
+        assert_eq!(SurfaceInputs::default(), SurfaceInputs::GBuffer);
     }
 }
