@@ -140,7 +140,11 @@ fn generated_shaders_read_back_and_unknown_generators_or_parts_are_skipped() {
     };
     // The summed variant: the same parts, the generator's own switches.
     let summed = GeneratedKey {
-        options: vec!["LIGHT_SUM".to_owned(), "S0_OUT_SSS".to_owned(), "SUM_DIFFUSE".to_owned()],
+        options: vec![
+            "LIGHT_SUM".to_owned(),
+            "S0_OUT_SSS".to_owned(),
+            "SUM_DIFFUSE".to_owned(),
+        ],
         ..fused.clone()
     };
     let pipelines = [

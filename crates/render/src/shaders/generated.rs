@@ -19,11 +19,8 @@ use crate::error::RenderError;
 
 /// Generate and compose a shader from its parts and options: a label for
 /// messages and captures, and the validated module.
-pub type Compose = fn(
-    &mut ShaderComposer,
-    &[ShaderKey],
-    &[String],
-) -> Result<(String, naga::Module), RenderError>;
+pub type Compose =
+    fn(&mut ShaderComposer, &[ShaderKey], &[String]) -> Result<(String, naga::Module), RenderError>;
 
 /// A kind of generated shader (its one value a `static` beside the code
 /// that generates it, listed in `crate::permutations::GENERATORS`).
