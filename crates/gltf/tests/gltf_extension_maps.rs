@@ -37,7 +37,7 @@ use glam::{Mat4, Vec2, Vec3};
 use gltf_json as json;
 use post_common::*;
 use spreadlight_gltf::builder::{Doc, png, quad};
-use spreadlight_gltf::load_gltf_slice;
+use spreadlight_gltf::{GltfScene, load_gltf_slice};
 use spreadlight_reference::anisotropy::{
     anisotropic_bent_normal, anisotropy_direction, anisotropy_tangent, cook_torrance_anisotropic,
 };
@@ -143,13 +143,21 @@ fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
     })
 }
 
-/// CookTorrance's diffuse and specular of `model` under [`SUN`].
+/// CookTorrance's diffuse and specular of `model` under [`SUN`] (a file
+/// that loads without a warning).
 fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
     let scene = load_gltf_slice(model, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    lit_scene(renderer, &scene, "the file")
+}
+
+/// CookTorrance's diffuse and specular of a loaded `scene` under [`SUN`]:
+/// the frame renders without an error and every value is finite (`what`
+/// names the case in a failure).
+fn lit_scene(renderer: &Renderer, scene: &GltfScene, what: &str) -> (ImageF32, ImageF32) {
     let (world, layer) = world_and_layer(
         renderer,
-        &scene,
+        scene,
         Mat4::IDENTITY,
         scene.materials[0].base_color,
     );
@@ -173,9 +181,12 @@ fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
     let (report, images) =
         render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
             .expect("the frame renders");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert!(report.errors.is_empty(), "{what}: {:?}", report.errors);
     let [d, s]: [ImageF32; 2] = images.try_into().unwrap_or_else(|_| unreachable!());
-    assert!(d.all_finite() && s.all_finite(), "no NaN or infinity");
+    assert!(
+        d.all_finite() && s.all_finite(),
+        "{what}: no NaN or infinity"
+    );
     (d, s)
 }
 
@@ -1768,37 +1779,7 @@ fn hard_iridescence_values_stay_finite_and_are_warned() {
             "{ext}: {:?}",
             scene.warnings
         );
-        let (world, layer) = world_and_layer(
-            &renderer,
-            &scene,
-            Mat4::IDENTITY,
-            scene.materials[0].base_color,
-        );
-        let g = GBuffer::new(
-            &renderer,
-            None,
-            vec![layer],
-            VIEW.camera(),
-            None,
-            SizeRule::Relative(1.0),
-        );
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g,
-            LightBuffer::suns(&renderer, &[SUN]),
-            LightLoop::Clustered,
-            true,
-            Surfaces::Materials(world),
-        );
-        let (report, images) =
-            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
-                .expect("renders");
-        assert!(report.errors.is_empty(), "{:?}", report.errors);
-        assert!(
-            images.iter().all(|i| i.all_finite()),
-            "{ext}: no NaN or infinity"
-        );
+        lit_scene(&renderer, &scene, ext);
     }
 }
 
@@ -2254,37 +2235,7 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
             &[factor.clone(), thickness.clone()],
         );
         let scene = load_gltf_slice(&file, None).expect("loads");
-        let (world, layer) = world_and_layer(
-            &renderer,
-            &scene,
-            Mat4::IDENTITY,
-            scene.materials[0].base_color,
-        );
-        let g = GBuffer::new(
-            &renderer,
-            None,
-            vec![layer],
-            VIEW.camera(),
-            None,
-            SizeRule::Relative(1.0),
-        );
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g,
-            LightBuffer::suns(&renderer, &[SUN]),
-            LightLoop::Clustered,
-            true,
-            Surfaces::Materials(world),
-        );
-        let (report, images) =
-            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
-                .expect("renders");
-        assert!(report.errors.is_empty(), "{:?}", report.errors);
-        assert!(
-            images.iter().all(|i| i.all_finite()),
-            "{hard}: no NaN or infinity"
-        );
+        lit_scene(&renderer, &scene, hard);
     }
 }
 
