@@ -190,12 +190,13 @@ fn lit_scene(renderer: &Renderer, scene: &GltfScene, what: &str) -> (ImageF32, I
     (d, s)
 }
 
-/// How many compiled shaders have EXTENSION_MAPS on.
-fn extension_permutations(renderer: &Renderer) -> usize {
+/// How many compiled shaders have `feature` on (the feature-cost checks:
+/// none without the material that calls for it).
+fn compiled_with(renderer: &Renderer, feature: &str) -> usize {
     renderer
         .shaders()
         .compiled_keys()
-        .filter(|k| k.features.contains("EXTENSION_MAPS"))
+        .filter(|k| k.features.contains(feature))
         .count()
 }
 
@@ -216,12 +217,12 @@ fn clearcoat_maps_put_the_coat_where_they_say() {
         "clearcoatTexture": {"index": {0}}, "clearcoatRoughnessTexture": {"index": {1}}}}"#;
     // A plain file first: no extension map, none of their code compiled.
     let (plain_d, _) = lit(&renderer, &model(opaque_material(), "{}", &[]));
-    assert_eq!(extension_permutations(&renderer), 0);
+    assert_eq!(compiled_with(&renderer, "EXTENSION_MAPS"), 0);
     let (d, s) = lit(
         &renderer,
         &model(opaque_material(), ext, &[coat_map, rough_map]),
     );
-    assert!(extension_permutations(&renderer) >= 1);
+    assert!(compiled_with(&renderer, "EXTENSION_MAPS") >= 1);
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;
     let eye = Vec3::Z * DISTANCE;
@@ -912,7 +913,7 @@ fn the_clearcoat_normal_map_bends_the_coat_alone() {
         &renderer,
         &model(opaque_material(), COAT_NORMAL_EXT, &[coat_normal_map()]),
     );
-    assert!(extension_permutations(&renderer) >= 1);
+    assert!(compiled_with(&renderer, "EXTENSION_MAPS") >= 1);
     let kept = |x: f32, steps: f32| (x * steps).round() / steps;
     let coat_roughness = kept(0.4, 255.0);
     let reflectance = kept(0.04f32.sqrt(), 511.0).powi(2);
@@ -1203,15 +1204,6 @@ fn lit_at(renderer: &Renderer, model: &[u8], transform: Mat4) -> (ImageF32, Imag
     (d, s)
 }
 
-/// How many compiled shaders have ANISOTROPY on.
-fn anisotropy_permutations(renderer: &Renderer) -> usize {
-    renderer
-        .shaders()
-        .compiled_keys()
-        .filter(|k| k.features.contains("ANISOTROPY"))
-        .count()
-}
-
 /// The CPU reference of the anisotropic metal quad at `p` under [`SUN`]:
 /// diffuse and specular, the direction `direction` in the quad's tangent
 /// frame (+x along u, +y up the image: see [`coat_normal`]).
@@ -1257,7 +1249,7 @@ fn the_anisotropy_map_and_factors_stretch_the_highlight() {
     let renderer = test_renderer();
     let roughness = 0.3;
     let (_, iso_s) = lit(&renderer, &model(metal_material(roughness), "{}", &[]));
-    assert_eq!(anisotropy_permutations(&renderer), 0);
+    assert_eq!(compiled_with(&renderer, "ANISOTROPY"), 0);
     let map = halves([255, 128, 255, 255], [128, 255, 128, 255], false);
     let ext = r#"{"KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5,
         "anisotropyTexture": {"index": {0}}}}"#;
@@ -1273,7 +1265,7 @@ fn the_anisotropy_map_and_factors_stretch_the_highlight() {
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let (d, s) = lit(&renderer, required.as_bytes());
     assert!(
-        anisotropy_permutations(&renderer) >= 2,
+        compiled_with(&renderer, "ANISOTROPY") >= 2,
         "the resolve's and the light loop's"
     );
     let near = |got: f32, want: f32| (got - want).abs() <= 1e-2 * want + 2e-4;
@@ -1661,15 +1653,6 @@ fn compute_transparency_draws_the_sheen_and_anisotropy_as_forward_does() {
     }
 }
 
-/// How many compiled shaders have IRIDESCENCE on.
-fn film_permutations(renderer: &Renderer) -> usize {
-    renderer
-        .shaders()
-        .compiled_keys()
-        .filter(|k| k.features.contains("IRIDESCENCE"))
-        .count()
-}
-
 /// `KHR_materials_iridescence` through CookTorrance: a soap film (ior 1.3,
 /// 400 nm, factor 1) over the dielectric quad and an oil film (ior 1.5,
 /// 700 nm, factor 0.6) over a copper-coloured metal match the CPU BRDF with
@@ -1682,7 +1665,7 @@ fn film_permutations(renderer: &Renderer) -> usize {
 fn an_iridescent_film_colours_the_specular_as_the_reference_says() {
     let renderer = test_renderer();
     let (_, plain_s) = lit(&renderer, &model(opaque_material(), "{}", &[]));
-    assert_eq!(film_permutations(&renderer), 0);
+    assert_eq!(compiled_with(&renderer, "IRIDESCENCE"), 0);
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;
     let eye = Vec3::Z * DISTANCE;
@@ -1708,7 +1691,7 @@ fn an_iridescent_film_colours_the_specular_as_the_reference_says() {
             json::material::PbrBaseColorFactor([r, g, b, 1.0]);
         material.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(metallic);
         let (d, s) = lit(&renderer, &model(material, ext, &[]));
-        assert!(film_permutations(&renderer) >= 1);
+        assert!(compiled_with(&renderer, "IRIDESCENCE") >= 1);
         let mut checked = 0;
         for (i, p, _, _) in inner_pixels() {
             let view = (eye - p).normalize();
@@ -1804,15 +1787,6 @@ fn sheened_reference(p: Vec3, sheen: ([f32; 3], f32)) -> (Vec3, Vec3) {
     )
 }
 
-/// How many compiled shaders have SHEEN on.
-fn sheen_permutations(renderer: &Renderer) -> usize {
-    renderer
-        .shaders()
-        .compiled_keys()
-        .filter(|k| k.features.contains("SHEEN"))
-        .count()
-}
-
 /// KHR_materials_sheen's factors through CookTorrance (SHEEN): every inner
 /// pixel's diffuse (dimmed by the sheen's albedo scaling) and specular
 /// (with the Charlie lobe) against `spreadlight_reference::sheen`; a file
@@ -1821,9 +1795,13 @@ fn sheen_permutations(renderer: &Renderer) -> usize {
 fn the_sheen_factors_light_the_quad_as_the_reference_says() {
     let renderer = test_renderer();
     let (plain_d, plain_s) = lit(&renderer, &model(opaque_material(), "{}", &[]));
-    assert_eq!(sheen_permutations(&renderer), 0, "no sheen, no SHEEN code");
+    assert_eq!(
+        compiled_with(&renderer, "SHEEN"),
+        0,
+        "no sheen, no SHEEN code"
+    );
     let (d, s) = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
-    assert!(sheen_permutations(&renderer) >= 1);
+    assert!(compiled_with(&renderer, "SHEEN") >= 1);
     let mut checked = 0;
     for (i, p, _, _) in inner_pixels() {
         let (want_d, want_s) = sheened_reference(p, (SHEEN_COLOR, SHEEN_ROUGHNESS));
@@ -1886,7 +1864,7 @@ fn lit_transparency_draws_the_sheen() {
     assert!(pass.shades_in_compute(), "a sheen layer shades in compute");
     let pixels = out.pixels;
     assert!(
-        sheen_permutations(&renderer) >= 2,
+        compiled_with(&renderer, "SHEEN") >= 2,
         "the record's and the shade's"
     );
     let mut checked = 0;
@@ -2084,15 +2062,6 @@ fn anisotropic_reflection_follows_the_bent_normal() {
     );
 }
 
-/// How many compiled resolves write the sheen and film target.
-fn sheen_film_resolves(renderer: &Renderer) -> usize {
-    renderer
-        .shaders()
-        .compiled_keys()
-        .filter(|k| k.features.contains("SHEEN_FILM"))
-        .count()
-}
-
 /// KHR_materials_sheen's maps through the G-buffer's sheen and film
 /// target into CookTorrance (SHEEN): a sheenColorTexture whose left half is
 /// white and right half magenta (no green) and a sheenRoughnessTexture whose
@@ -2105,7 +2074,7 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
     let renderer = test_renderer();
     let (_, factors_s) = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
     assert_eq!(
-        sheen_film_resolves(&renderer),
+        compiled_with(&renderer, "SHEEN_FILM"),
         0,
         "factors alone: no sheen and film target"
     );
@@ -2127,7 +2096,7 @@ fn the_sheen_maps_colour_each_half_as_the_reference_says() {
         &model(opaque_material(), ext, &[colour, roughness]),
     );
     assert!(
-        sheen_film_resolves(&renderer) >= 1,
+        compiled_with(&renderer, "SHEEN_FILM") >= 1,
         "the resolve wrote the target"
     );
     assert_eq!(written(&renderer), Some(1), "stats show the target");
@@ -2179,7 +2148,7 @@ fn the_iridescence_maps_set_the_film_per_half_as_the_reference_says() {
         &model(opaque_material(), ext, &[factor.clone(), thickness.clone()]),
     );
     assert!(
-        sheen_film_resolves(&renderer) >= 1,
+        compiled_with(&renderer, "SHEEN_FILM") >= 1,
         "the resolve wrote the target"
     );
     let l = -SUN.direction.normalize();
@@ -2443,7 +2412,7 @@ fn reflection_lights_the_sheen_maps_per_pixel() {
         &model(opaque_material(), ext, &[colour, roughness]),
     );
     assert!(
-        sheen_film_resolves(&renderer) >= 1,
+        compiled_with(&renderer, "SHEEN_FILM") >= 1,
         "the resolve wrote the target"
     );
     let mut quadrants = Vec::new();
