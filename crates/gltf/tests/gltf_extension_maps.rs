@@ -2315,50 +2315,27 @@ fn lit_transparency_draws_the_film() {
 /// Reflection's sheen term (SHEEN) under a uniform environment of `model`'s
 /// quad, its material made reflective: the specular and diffuse outputs.
 fn reflected(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
-    use spreadlight_gltf::MaterialData;
     use spreadlight_render::environment::{
         Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, Reflection,
         ReflectionMode,
     };
-    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures};
-    use spreadlight_render::material::{Feature, MaterialWorld};
+    use spreadlight_render::material::Feature;
     let scene = load_gltf_slice(model, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let mesh = renderer
-        .meshes
-        .upload(&renderer.gpu, &scene.meshes[0])
-        .expect("upload");
-    let materials = std::iter::once(MaterialData::default())
-        .chain(scene.materials.iter().cloned())
-        .map(|m| {
-            m.to_material()
-                .with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
+    let (world, layer) = common::world_and_layer_of(
+        renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+        |m| {
+            m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
                 .expect("valid")
-        })
-        .collect();
-    let world = MaterialWorld::new(renderer, materials);
-    let instance = InstanceInput {
-        transform: Mat4::IDENTITY,
-        previous_transform: Mat4::IDENTITY,
-        color: scene.materials[0].base_color,
-        material_id: 1,
-        object_id: 1,
-    };
-    let layer = Layer::new(
-        Some(1),
-        vec![DrawBatch {
-            mesh,
-            instances: vec![instance],
-        }],
-        LayerFeatures::default(),
-        None,
-    )
-    .expect("layer")
-    .with_materials(Some(world.clone()));
+        },
+    );
     let g = GBuffer::new(
         renderer,
         None,
-        vec![Arc::new(layer)],
+        vec![layer],
         VIEW.camera(),
         None,
         SizeRule::Relative(1.0),
