@@ -189,9 +189,9 @@ pub struct GBufferTargets {
     pub sheen_film: Option<String>,
 }
 
-/// The sheen and film target's format: four pairs of unorm16 values and a
-/// written flag (shaders/lib/sheen_film.wgsl).
-pub const SHEEN_FILM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// The sheen and film target's format (the material module's: its 1x1
+/// stand-in has the same).
+pub use crate::material::SHEEN_FILM_FORMAT;
 
 impl GBufferTargets {
     /// What material lookups read at a pixel: the UV.

@@ -75,6 +75,12 @@ pub enum FeatureError {
     UnknownFeature { id: i64 },
 }
 
+/// The G-buffer's sheen and film target's format: four pairs of unorm16
+/// values and a written flag (shaders/lib/sheen_film.wgsl). Here, beside
+/// the 1x1 stand-in bound where the G-buffer has no such target; the
+/// G-buffer re-exports it.
+pub const SHEEN_FILM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
 /// A [`FeatureError`] on material `material` (its id: index in the world, slice on a node).
 #[derive(Clone, Debug, Error, PartialEq)]
 #[error("material {material}: {source}")]
@@ -734,7 +740,7 @@ impl Dummies {
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
-                format: crate::gbuffer::SHEEN_FILM_FORMAT,
+                format: SHEEN_FILM_FORMAT,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING,
                 view_formats: &[],
             })

@@ -171,7 +171,12 @@ impl CompositeLight {
             bytemuck::cast_slice(&[ambient[0], ambient[1], ambient[2], 0.0]),
         );
         let id = next_recipe_id();
-        let sums = super::light_sets::sum_candidates(&components);
+        let sums = super::light_sets::sum_candidates(
+            &components
+                .iter()
+                .map(|c| (&c.diffuse, &c.specular, c.sss.as_ref()))
+                .collect::<Vec<_>>(),
+        );
         Ok(Arc::new(CompositeLight {
             id,
             owner,

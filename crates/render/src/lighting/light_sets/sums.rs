@@ -26,7 +26,7 @@
 use std::sync::Mutex;
 
 use super::cook_torrance;
-use crate::lighting::composite::{LightComponents, MAX_COMPONENTS};
+use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 
 /// Whether fused light sets write one pair of sums for CompositeLight.
@@ -120,19 +120,24 @@ pub(crate) struct SumCandidate {
 /// most components first: made once per CompositeLight, looked up each
 /// frame by name (a frame that summed those sets declared them). A
 /// component counts only when it is one CookTorrance's outputs whole
-/// (its diffuse, its specular and its subsurface term, if any).
-pub(crate) fn candidates(components: &[LightComponents]) -> Vec<SumCandidate> {
+/// (its diffuse, its specular and its subsurface term, if any). The
+/// components are CompositeLight's (diffuse, specular, subsurface), up to
+/// eight (a bit each; CompositeLight takes four): passed as textures so
+/// that this module needs nothing of CompositeLight's, which reads it.
+pub(crate) fn candidates(
+    components: &[(&TextureRef, &TextureRef, Option<&TextureRef>)],
+) -> Vec<SumCandidate> {
     let ids: Vec<Option<u64>> = components
         .iter()
-        .map(|c| {
-            let recipe = cook_torrance(&c.diffuse)?;
-            let whole = c.diffuse.name == recipe.diffuse
-                && c.specular.name == recipe.specular
-                && c.sss.as_ref().map(|t| &t.name) == recipe.sss.as_ref();
+        .map(|(diffuse, specular, sss)| {
+            let recipe = cook_torrance(diffuse)?;
+            let whole = diffuse.name == recipe.diffuse
+                && specular.name == recipe.specular
+                && sss.map(|t| &t.name) == recipe.sss.as_ref();
             whole.then(|| recipe.id())
         })
         .collect();
-    let n = components.len().min(MAX_COMPONENTS);
+    let n = components.len().min(u8::BITS as usize);
     let mut masks: Vec<u8> = (1u8..1 << n)
         .filter(|m| m.count_ones() >= 2)
         .filter(|m| {
