@@ -567,6 +567,27 @@ fn nodes_lists_the_registry() {
     }
 }
 
+/// `render PATCH -o IMAGE --size 32x18 --json` with `env`, which must
+/// succeed: its done line's `cold_start`, the image's bytes and stderr
+/// (the cold-start tests run it a few times over one cache).
+fn cold_start_render(
+    patch: &str,
+    image: &str,
+    env: &[(&str, &str)],
+) -> (serde_json::Value, Vec<u8>, String) {
+    let args = ["render", patch, "-o", image, "--size", "32x18", "--json"];
+    let out = spreadlight_env(&args, env);
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
+    let done: serde_json::Value = stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .next_back()
+        .expect("a done line");
+    let bytes = std::fs::read(image).expect("image written");
+    (done["cold_start"].clone(), bytes, text(&out.stderr))
+}
+
 fn spreadlight_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_spreadlight"));
     cmd.args(args).current_dir(root());
@@ -1086,25 +1107,7 @@ fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_re
     let run = |name: &str| {
         let image = dir.path().join(name);
         let image = image.to_str().expect("utf-8 path");
-        let args = [
-            "render",
-            "patches/gbuffer-spheres.ron",
-            "-o",
-            image,
-            "--size",
-            "32x18",
-            "--json",
-        ];
-        let out = spreadlight_env(&args, &env);
-        let stdout = text(&out.stdout);
-        assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
-        let done: serde_json::Value = stdout
-            .lines()
-            .filter_map(|l| serde_json::from_str(l).ok())
-            .next_back()
-            .expect("a done line");
-        let bytes = std::fs::read(image).expect("image written");
-        (done["cold_start"].clone(), bytes, text(&out.stderr))
+        cold_start_render("patches/gbuffer-spheres.ron", image, &env)
     };
     let lists = || -> Vec<PathBuf> {
         std::fs::read_dir(cache.join("permutations"))
@@ -1246,25 +1249,7 @@ fn generated_light_sets_and_render_pipelines_are_made_ahead_on_a_first_and_a_sec
             ("SPREADLIGHT_PIPELINES_AHEAD", "wait"),
             ("SPREADLIGHT_LIGHT_FUSION", fusion),
         ];
-        let args = [
-            "render",
-            "patches/environment-probe.ron",
-            "-o",
-            image,
-            "--size",
-            "32x18",
-            "--json",
-        ];
-        let out = spreadlight_env(&args, &env);
-        let stdout = text(&out.stdout);
-        assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
-        let done: serde_json::Value = stdout
-            .lines()
-            .filter_map(|l| serde_json::from_str(l).ok())
-            .next_back()
-            .expect("a done line");
-        let bytes = std::fs::read(image).expect("image written");
-        (done["cold_start"].clone(), bytes, text(&out.stderr))
+        cold_start_render("patches/environment-probe.ron", image, &env)
     };
     let count = |stats: &serde_json::Value, name: &str| stats[name].as_u64().unwrap_or(0);
     let (first, first_image, _) = run("first.png", "fused");
