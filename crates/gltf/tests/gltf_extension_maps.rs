@@ -424,7 +424,6 @@ fn extreme_factors_under_the_maps_stay_finite() {
 /// 0.04 on the right (sampled, not quantized).
 #[test]
 fn lit_transparency_reads_the_specular_map() {
-    use spreadlight_render::post::{LitBy, TransparentLights};
     let renderer = test_renderer();
     let specular_map = halves([255, 255, 255, 64], [255, 255, 255, 255], false);
     let mut material = opaque_material();
@@ -432,42 +431,14 @@ fn lit_transparency_reads_the_specular_map() {
     let ext = r#"{"KHR_materials_specular": {"specularTexture": {"index": {0}}}}"#;
     let scene = load_gltf_slice(&model(material, ext, &[specular_map]), None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let g = GBuffer::new(
-        &renderer,
-        None,
-        vec![],
-        VIEW.camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
-    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
-    let settings = TransparencySettings {
-        ambient: Vec3::ZERO,
-        light_color: Vec3::ZERO,
-        energy_compensation: true,
-        ..Default::default()
-    };
-    let (_, layer) = world_and_layer(
+    // The node's default shading and light loop.
+    let defaults = TransparencySettings::default();
+    let pass = blend_node(
         &renderer,
         &scene,
-        Mat4::IDENTITY,
-        scene.materials[0].base_color,
-    );
-    let lights = vec![TransparentLights {
-        lights: LightBuffer::suns(&renderer, &[SUN]),
-        shadows: None,
-    }];
-    let pass = Transparency::lit(
-        &renderer,
-        None,
-        background.texture_ref(),
-        g,
-        vec![layer],
-        settings,
-        LitBy {
-            lights,
-            ..Default::default()
-        },
+        defaults.shading,
+        defaults.light_loop,
+        LightBuffer::suns(&renderer, &[SUN]),
     );
     let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
         .1
@@ -2226,42 +2197,14 @@ fn lit_transparency_draws_the_film() {
     let thickness = halves([0, 0, 0, 255], [0, 255, 0, 255], true);
     let scene = load_gltf_slice(&model(material, ext, &[factor, thickness]), None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let g = GBuffer::new(
-        &renderer,
-        None,
-        vec![],
-        VIEW.camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
-    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
-    let settings = TransparencySettings {
-        ambient: Vec3::ZERO,
-        light_color: Vec3::ZERO,
-        energy_compensation: true,
-        ..Default::default()
-    };
-    let (_, layer) = world_and_layer(
+    // The node's default shading and light loop.
+    let defaults = TransparencySettings::default();
+    let pass = blend_node(
         &renderer,
         &scene,
-        Mat4::IDENTITY,
-        scene.materials[0].base_color,
-    );
-    let lights = vec![TransparentLights {
-        lights: LightBuffer::suns(&renderer, &[SUN]),
-        shadows: None,
-    }];
-    let pass = Transparency::lit(
-        &renderer,
-        None,
-        background.texture_ref(),
-        g,
-        vec![layer],
-        settings,
-        LitBy {
-            lights,
-            ..Default::default()
-        },
+        defaults.shading,
+        defaults.light_loop,
+        LightBuffer::suns(&renderer, &[SUN]),
     );
     assert!(
         !pass.shades_in_compute(),
