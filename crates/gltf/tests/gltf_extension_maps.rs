@@ -155,12 +155,17 @@ fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
 /// the frame renders without an error and every value is finite (`what`
 /// names the case in a failure).
 fn lit_scene(renderer: &Renderer, scene: &GltfScene, what: &str) -> (ImageF32, ImageF32) {
-    let (world, layer) = world_and_layer(
-        renderer,
-        scene,
-        Mat4::IDENTITY,
-        scene.materials[0].base_color,
-    );
+    lit_scene_at(renderer, scene, Mat4::IDENTITY, what)
+}
+
+/// [`lit_scene`] with the quad placed by `transform`.
+fn lit_scene_at(
+    renderer: &Renderer,
+    scene: &GltfScene,
+    transform: Mat4,
+    what: &str,
+) -> (ImageF32, ImageF32) {
+    let (world, layer) = world_and_layer(renderer, scene, transform, scene.materials[0].base_color);
     let g = GBuffer::new(
         renderer,
         None,
@@ -1147,32 +1152,7 @@ fn metal_material(roughness: f32) -> json::Material {
 /// placed by `transform`.
 fn lit_at(renderer: &Renderer, model: &[u8], transform: Mat4) -> (ImageF32, ImageF32) {
     let scene = load_gltf_slice(model, None).expect("loads");
-    let (world, layer) =
-        world_and_layer(renderer, &scene, transform, scene.materials[0].base_color);
-    let g = GBuffer::new(
-        renderer,
-        None,
-        vec![layer],
-        VIEW.camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
-    let ct = CookTorrance::new(
-        renderer,
-        None,
-        g,
-        LightBuffer::suns(renderer, &[SUN]),
-        LightLoop::Clustered,
-        true,
-        Surfaces::Materials(world),
-    );
-    let (report, images) =
-        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
-            .expect("the frame renders");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let [d, s]: [ImageF32; 2] = images.try_into().unwrap_or_else(|_| unreachable!());
-    assert!(d.all_finite() && s.all_finite(), "no NaN or infinity");
-    (d, s)
+    lit_scene_at(renderer, &scene, transform, "the file")
 }
 
 /// The CPU reference of the anisotropic metal quad at `p` under [`SUN`]:
