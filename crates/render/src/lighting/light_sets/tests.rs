@@ -20,6 +20,20 @@ fn set_kinds() -> Vec<CookTorranceKey> {
         .collect()
 }
 
+/// The kind of set of `kinds` ([`set_kinds`]) with these lights and
+/// shadows.
+fn set_kind(
+    kinds: &[CookTorranceKey],
+    lights: Lights,
+    shadows: Option<ShadowSampling>,
+) -> CookTorranceKey {
+    kinds
+        .iter()
+        .copied()
+        .find(|k| k.lights == lights && k.shadows == shadows)
+        .expect("a kind of set")
+}
+
 /// The sets' permutations, as the generator takes them.
 fn shader_keys(keys: &[CookTorranceKey]) -> Vec<ShaderKey> {
     keys.iter().map(|k| k.key()).collect()
@@ -87,13 +101,7 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
         k.surface_target = true;
         k
     };
-    let pick = |lights: Lights, shadows| {
-        kinds
-            .iter()
-            .copied()
-            .find(|k| k.lights == lights && k.shadows == shadows)
-            .expect("a kind of set")
-    };
+    let pick = |lights, shadows| set_kind(&kinds, lights, shadows);
     let keys = [
         pick(Lights::Sun, Some(ShadowSampling::Pcss)),
         pick(
@@ -159,13 +167,7 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
 #[test]
 fn summed_sets_write_their_sums_and_only_the_targets_asked_for() {
     let kinds = set_kinds();
-    let pick = |lights: Lights, shadows| {
-        kinds
-            .iter()
-            .copied()
-            .find(|k| k.lights == lights && k.shadows == shadows)
-            .expect("a kind of set")
-    };
+    let pick = |lights, shadows| set_kind(&kinds, lights, shadows);
     // emeshe-frame.ron's three sets.
     let keys = [
         pick(Lights::Sun, Some(ShadowSampling::Pcss)),
