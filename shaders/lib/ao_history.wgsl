@@ -53,7 +53,6 @@ fn accumulate(
     reuse: bool,
     blend: f32,
 ) -> vec4<f32> {
-    let size = vec2<u32>(camera.size.xy);
     let n = safe_normalize((camera.view_inverse * vec4<f32>(n_view, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
     var ao = clamp(raw, 0.0, 1.0);
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
@@ -63,7 +62,10 @@ fn accumulate(
     }
     let before = uv - velocity;
     if (reuse && all(before >= vec2<f32>(0.0)) && all(before < vec2<f32>(1.0))) {
-        let texel = min(vec2<u32>(before * camera.size.xy), size - 1u);
+        // The history's own size: the frame's, or half of it (AO's half
+        // chain, whose texel t stands for full pixel 2t).
+        let history_size = textureDimensions(previous);
+        let texel = min(vec2<u32>(before * vec2<f32>(history_size)), history_size - 1u);
         let h = textureLoad(previous, texel, 0);
         let world = camera.view_inverse * vec4<f32>(p, 1.0);
         // Reversed-Z perspective: clip w is the view distance.

@@ -184,6 +184,36 @@ fn blur_tap(camera: Camera, depth: texture_2d<f32>, normals: texture_2d<f32>, bl
     return BlurTap(qu, w, true);
 }
 
+// The same blur on a half-resolution image (crates/render/src/resolution.rs:
+// half texel h stands for full pixel 2h): a full-resolution half-width of
+// `radius` pixels becomes ceil(radius / 2) half texels and sigma halves
+// with it, so the Gaussian covers the same screen extent.
+fn separable_blur_half(radius: u32, z0: f32, n0: vec3<f32>) -> SeparableBlur {
+    let sigma = max(f32(radius), 1.0) * 0.25;
+    return SeparableBlur(i32((radius + 1u) / 2u), 1.0 / (2.0 * sigma * sigma), 1.0 / (0.03 * z0 + 1e-6), z0, n0);
+}
+
+// Tap `o` (in half texels) along `axis` of a half-resolution blur about
+// half texel `texel`: its surface is read at full pixel 2 (texel + axis o)
+// of the `size` G-buffer, its value at the half texel itself (`pixel`).
+fn half_blur_tap(camera: Camera, depth: texture_2d<f32>, normals: texture_2d<f32>, blur: SeparableBlur, texel: vec2<u32>, axis: vec2<i32>, o: i32, size: vec2<u32>) -> BlurTap {
+    let t = vec2<i32>(texel) + axis * o;
+    let q = t * 2;
+    if (any(t < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+        return BlurTap(vec2<u32>(0u), 0.0, false);
+    }
+    let qu = vec2<u32>(q);
+    let dq = textureLoad(depth, qu, 0).r;
+    if (dq <= 0.0) {
+        return BlurTap(vec2<u32>(t), 0.0, false);
+    }
+    let zq = -view_position(camera, qu, dq).z;
+    let n0 = blur.centre_normal;
+    let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
+    let w = tap_weight(o, blur.spread, zq - blur.centre_distance, blur.reach, dot(n0, nq));
+    return BlurTap(vec2<u32>(t), w, true);
+}
+
 // The packed surface (crates/render/src/packed_surface): one RG32Uint texel
 // per pixel with what the depth-aware blurs read of the G-buffer, so a tap
 // is one texture read instead of two (depth and normals) and no inverse

@@ -22,11 +22,22 @@
 // normals (PACKED comes with BLUR alone). PACKED_Z (a gather): the rays
 // read the packed surface's view z, four steps' reads at a time
 // (screen.wgsl's march_packed): the same pixels as `march`.
+// HALF: one thread per half texel, which stands for full pixel 2h (its
+// depth, normal and velocity: crates/render/src/resolution.rs). Alone, the
+// gather at half resolution; with TEMPORAL (never GATHER), the blend into a
+// half-size history; with BLUR (never AMBIENT or PACKED), a blur pass of the
+// half-size image whose taps read the full G-buffer two pixels apart
+// (screen.wgsl's separable_blur_half, half_blur_tap). The half chain's last
+// step, resolution/upsample.wgsl, adds the ambient at full size.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
 #ifdef BLUR
+#ifdef HALF
+#import spreadlight::screen::{separable_blur_half, half_blur_tap}
+#else
 #import spreadlight::screen::{separable_blur, blur_tap}
+#endif
 #ifdef PACKED
 #import spreadlight::screen::{packed_blur_tap, surface_normal, NO_SURFACE}
 #endif
@@ -83,44 +94,56 @@ fn clean_gi(v: vec4<f32>) -> vec4<f32> {
 }
 
 #ifdef TEMPORAL
-// `raw` blended with last frame's result where that saw the same surface.
-fn accumulate(raw: vec4<f32>, pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+// `raw` blended with last frame's result where that saw the same surface;
+// `pixel` is the full pixel, `texel` where the history stores it (the same
+// but at half resolution, where the history is half size).
+fn accumulate(raw: vec4<f32>, pixel: vec2<u32>, texel: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     var gi = raw;
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
     if (params.reset == 0u && fresh.x == 0u && all(before >= vec2<f32>(0.0)) && all(before < vec2<f32>(1.0))) {
-        let texel = min(vec2<u32>(before * camera.size.xy), size - 1u);
-        let h = textureLoad(previous, texel, 0);
-        let last = textureLoad(previous_distance, texel, 0).r;
+        let history_size = textureDimensions(previous);
+        let at = min(vec2<u32>(before * vec2<f32>(history_size)), history_size - 1u);
+        let h = textureLoad(previous, at, 0);
+        let last = textureLoad(previous_distance, at, 0).r;
         let world = camera.view_inverse * vec4<f32>(p, 1.0);
         let expected = (camera.previous_view_projection * world).w;
         if (all(abs(h) <= vec4<f32>(65000.0)) && last > 0.0 && last < 1e30 && abs(last - expected) <= 0.05 * expected + 1e-3) {
             gi = mix(gi, clean_gi(h), params.blend);
         }
     }
-    textureStore(distance, pixel, vec4<f32>(min(-p.z, 1e30), 0.0, 0.0, 0.0));
+    textureStore(distance, texel, vec4<f32>(min(-p.z, 1e30), 0.0, 0.0, 0.0));
     return gi;
 }
 
-fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+fn resolve(pixel: vec2<u32>, texel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 #ifdef GATHER
-    return accumulate(gather(pixel, p), pixel, size, p);
+    return accumulate(gather(pixel, p), pixel, texel, p);
 #else
-    return accumulate(clean_gi(textureLoad(source, pixel, 0)), pixel, size, p);
+    return accumulate(clean_gi(textureLoad(source, texel, 0)), pixel, texel, p);
 #endif
 }
 #else
 #ifdef BLUR
-// The blur about a pixel at view distance `z0` with unit normal `n0`.
-fn blur_at(pixel: vec2<u32>, size: vec2<u32>, z0: f32, n0: vec3<f32>) -> vec4<f32> {
+// The blur about a pixel at view distance `z0` with unit normal `n0`
+// (`texel`: where the source holds it, the pixel itself but at HALF).
+fn blur_at(pixel: vec2<u32>, texel: vec2<u32>, size: vec2<u32>, z0: f32, n0: vec3<f32>) -> vec4<f32> {
+#ifdef HALF
+    let blur = separable_blur_half(params.blur_radius, z0, n0);
+#else
     let blur = separable_blur(params.blur_radius, z0, n0);
+#endif
     var sum = vec4<f32>(0.0);
     var weights = 0.0;
     for (var o = -blur.radius; o <= blur.radius; o++) {
 #ifdef PACKED
         let tap = packed_blur_tap(surface, blur, pixel, axis.axis, o, size);
 #else
+#ifdef HALF
+        let tap = half_blur_tap(camera, depth, normals, blur, texel, axis.axis, o, size);
+#else
         let tap = blur_tap(camera, depth, normals, blur, pixel, axis.axis, o, size);
+#endif
 #endif
         if (!tap.valid) {
             continue;
@@ -128,7 +151,7 @@ fn blur_at(pixel: vec2<u32>, size: vec2<u32>, z0: f32, n0: vec3<f32>) -> vec4<f3
         sum += tap.weight * clean_gi(textureLoad(source, tap.pixel, 0));
         weights += tap.weight;
     }
-    var gi = clean_gi(textureLoad(source, pixel, 0));
+    var gi = clean_gi(textureLoad(source, texel, 0));
     if (weights > 1e-6) {
         gi = sum / weights;
     }
@@ -141,13 +164,13 @@ fn blur_at(pixel: vec2<u32>, size: vec2<u32>, z0: f32, n0: vec3<f32>) -> vec4<f3
 }
 
 #ifndef PACKED
-fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+fn resolve(pixel: vec2<u32>, texel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
-    return blur_at(pixel, size, -p.z, n0);
+    return blur_at(pixel, texel, size, -p.z, n0);
 }
 #endif
 #else
-fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+fn resolve(pixel: vec2<u32>, texel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     return gather(pixel, p);
 }
 #endif
@@ -223,8 +246,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
 #ifdef PACKED
-    textureStore(output, id.xy, blur_at(pixel, size, bitcast<f32>(centre.x), surface_normal(centre.y, vec3<f32>(0.0, 0.0, 1.0))));
+    textureStore(output, id.xy, blur_at(pixel, id.xy, size, bitcast<f32>(centre.x), surface_normal(centre.y, vec3<f32>(0.0, 0.0, 1.0))));
 #else
-    textureStore(output, id.xy, resolve(pixel, size, view_position(camera, pixel, d)));
+    textureStore(output, id.xy, resolve(pixel, id.xy, size, view_position(camera, pixel, d)));
 #endif
 }

@@ -16,6 +16,13 @@
 // upsampling. Depth-empty pixels (the sky) match only depth-empty texels.
 //
 // R32: the target is R32Float (AO's raw visibility), else RGBA16F.
+// AO / AO_COMBINE (AO's half chain, whose temporal blend and blurs ran at
+// half size): the source is the blurred R32 visibility and the target the
+// RGBA16F output, grey with alpha 1, times another AO with AO_COMBINE: what
+// ssao/blur.wgsl's VERTICAL (and COMBINE) pass writes at full resolution.
+// AMBIENT (SSGI's half chain): the ambient light times the escaped share
+// (alpha) is added to the bounce, alpha 1: what ssgi.wgsl's AMBIENT blur
+// pass writes at full resolution.
 // DETAIL (depth of field): the half result is a blur; where p is in focus
 // (its circle of confusion under a pixel) the detail the half grid cannot
 // hold comes back from the full image: image(p) minus the same weighted
@@ -33,6 +40,12 @@
 @group(0) @binding(4) var output: texture_storage_2d<r32float, write>;
 #else
 @group(0) @binding(4) var output: texture_storage_2d<rgba16float, write>;
+#endif
+#ifdef AO_COMBINE
+@group(0) @binding(5) var combine: texture_2d<f32>;
+#endif
+#ifdef AMBIENT
+@group(0) @binding(5) var ambient: texture_2d<f32>;
 #endif
 #ifdef DETAIL
 @group(0) @binding(5) var image: texture_2d<f32>;
@@ -138,9 +151,27 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     v += sharp * (clean(textureLoad(image, pixel, 0)) - mixed);
 #endif
     v = clean(v);
+#ifdef AO
+    let ao = clamp(v.x, 0.0, 1.0);
+    textureStore(output, pixel, vec4<f32>(ao, ao, ao, 1.0));
+#else
+#ifdef AO_COMBINE
+    let other = textureLoad(combine, pixel, 0).r;
+    let ao = clamp(v.x, 0.0, 1.0) * select(1.0, clamp(other, 0.0, 1.0), abs(other) <= 1e30);
+    textureStore(output, pixel, vec4<f32>(ao, ao, ao, 1.0));
+#else
+#ifdef AMBIENT
+    // The environment's light arrives only along the rays that escaped.
+    let light = clean(textureLoad(ambient, pixel, 0)).rgb;
+    let rgb = max(v.rgb, vec3<f32>(0.0)) + max(light, vec3<f32>(0.0)) * clamp(v.a, 0.0, 1.0);
+    textureStore(output, pixel, vec4<f32>(min(rgb, vec3<f32>(HALF_MAX)), 1.0));
+#else
 #ifdef R32
     textureStore(output, pixel, vec4<f32>(v.x, 0.0, 0.0, 0.0));
 #else
     textureStore(output, pixel, vec4<f32>(max(v.rgb, vec3<f32>(0.0)), v.a));
+#endif
+#endif
+#endif
 #endif
 }

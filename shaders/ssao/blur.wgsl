@@ -7,12 +7,22 @@
 // PACKED: each tap's view distance and normal come from the G-buffer's
 // packed surface (one RG32Uint read, crates/render/src/packed_surface)
 // instead of depth, normals and an inverse projection.
+// HALF (AO's half-resolution chain, crates/render/src/resolution.rs): one
+// thread per half texel, which stands for full pixel 2h; the centre and
+// every tap read the full G-buffer at their own full pixel, the taps two
+// full pixels apart (screen.wgsl's separable_blur_half, half_blur_tap), and
+// both passes write R32 at half size, which resolution/upsample.wgsl's AO
+// brings to the full-size output. Never with PACKED or COMBINE.
 #import spreadlight::camera::Camera
 #ifdef PACKED
 #import spreadlight::screen::{RayParams, separable_blur, packed_blur_tap, surface_normal, NO_SURFACE}
 #else
 #import spreadlight::packing::safe_normalize
+#ifdef HALF
+#import spreadlight::screen::{RayParams, view_position, separable_blur_half, half_blur_tap}
+#else
 #import spreadlight::screen::{RayParams, view_position, separable_blur, blur_tap}
+#endif
 #endif
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -24,10 +34,14 @@
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;
 #endif
+#ifdef HALF
+@group(0) @binding(5) var output: texture_storage_2d<r32float, write>;
+#else
 #ifdef VERTICAL
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
 #else
 @group(0) @binding(5) var output: texture_storage_2d<r32float, write>;
+#endif
 #endif
 #ifdef COMBINE
 @group(0) @binding(6) var combine: texture_2d<f32>;
@@ -36,10 +50,20 @@
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
+#ifdef HALF
+    if (id.x >= (size.x + 1u) / 2u || id.y >= (size.y + 1u) / 2u) {
+        return;
+    }
+    // The half texel, and the full pixel it stands for.
+    let texel = id.xy;
+    let pixel = id.xy * 2u;
+#else
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
     let pixel = id.xy;
+    let texel = pixel;
+#endif
     var v = 1.0;
 #ifdef PACKED
     let centre = textureLoad(surface, pixel, 0).xy;
@@ -57,14 +81,22 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
         let axis = vec2<i32>(1, 0);
 #endif
+#ifdef HALF
+        let blur = separable_blur_half(params.blur_radius, z0, n0);
+#else
         let blur = separable_blur(params.blur_radius, z0, n0);
+#endif
         var sum = 0.0;
         var weights = 0.0;
         for (var o = -blur.radius; o <= blur.radius; o++) {
 #ifdef PACKED
             let tap = packed_blur_tap(surface, blur, pixel, axis, o, size);
 #else
+#ifdef HALF
+            let tap = half_blur_tap(camera, depth, normals, blur, texel, axis, o, size);
+#else
             let tap = blur_tap(camera, depth, normals, blur, pixel, axis, o, size);
+#endif
 #endif
             if (!tap.valid) {
                 continue;
@@ -79,7 +111,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         if (weights > 1e-6) {
             v = sum / weights;
         } else {
-            let s = textureLoad(source, pixel, 0).r;
+            let s = textureLoad(source, texel, 0).r;
             v = select(1.0, clamp(s, 0.0, 1.0), abs(s) <= 1e30);
         }
     }
@@ -88,9 +120,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     v *= select(1.0, clamp(other, 0.0, 1.0), abs(other) <= 1e30);
 #endif
     v = clamp(v, 0.0, 1.0);
+#ifdef HALF
+    textureStore(output, texel, vec4<f32>(v, 0.0, 0.0, 0.0));
+#else
 #ifdef VERTICAL
     textureStore(output, pixel, vec4<f32>(v, v, v, 1.0));
 #else
     textureStore(output, pixel, vec4<f32>(v, 0.0, 0.0, 0.0));
+#endif
 #endif
 }

@@ -2,6 +2,9 @@
 // half resolution and upsampled (a full-resolution estimate blends in its
 // own pass, ssao/ao.wgsl's TEMPORAL). The blend is
 // spreadlight::ao_history::accumulate (shaders/lib/ao_history.wgsl).
+// HALF (AO's half-resolution chain): one thread per half texel, blending at
+// the full pixel it stands for (2h: its depth, normal and velocity) into a
+// half-size history; `accumulate` reads last frame's at the history's size.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
@@ -28,18 +31,25 @@ struct Temporal {
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
+#ifdef HALF
+    if (id.x >= (size.x + 1u) / 2u || id.y >= (size.y + 1u) / 2u) {
+        return;
+    }
+    let pixel = id.xy * 2u;
+#else
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
     let pixel = id.xy;
+#endif
     let d = textureLoad(depth, pixel, 0).r;
     if (d <= 0.0) {
-        textureStore(history, pixel, SKY);
+        textureStore(history, id.xy, SKY);
         return;
     }
     let p = view_position(camera, pixel, d);
     let n_view = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     let reuse = params.reset == 0u && temporal.fresh == 0u;
-    let raw_ao = textureLoad(raw, pixel, 0).r;
-    textureStore(history, pixel, accumulate(camera, raw_ao, pixel, p, n_view, velocity_uv, previous, reuse, params.blend));
+    let raw_ao = textureLoad(raw, id.xy, 0).r;
+    textureStore(history, id.xy, accumulate(camera, raw_ao, pixel, p, n_view, velocity_uv, previous, reuse, params.blend));
 }

@@ -20,6 +20,7 @@ use spreadlight_render::packed_surface::{
     self as packed_surface, BLUR_INPUTS_VAR, MARCH_INPUTS_VAR, Reader, SurfaceInputs,
 };
 use spreadlight_render::renderer::{PassOrder, Recording, Timing};
+use spreadlight_render::resolution::{self, AutoChoice};
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -167,6 +168,15 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
 /// The passes as a map of name to median (docs/bench/scene.md's `passes`), a
 /// name that repeats (the three SSSS passes of one node) numbered from its
 /// second time on, so no pass is lost.
+/// The effects with a Resolution pin and the counter each adds per node
+/// that ran at half resolution.
+const HALF_COUNTERS: [(&str, &str); 4] = [
+    ("AO", spreadlight_render::ssao::HALF_RESOLUTION),
+    ("SSGI", spreadlight_render::lighting::SSGI_HALF_RESOLUTION),
+    ("SSR", spreadlight_render::environment::ssr::HALF_RESOLUTION),
+    ("DOF", spreadlight_render::post::dof::HALF_RESOLUTION),
+];
+
 fn unique_names(passes: &[PassFigure]) -> serde_json::Map<String, serde_json::Value> {
     let mut seen = std::collections::HashMap::<&str, u32>::new();
     let mut map = serde_json::Map::new();
@@ -333,6 +343,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         anyhow::Ok(inputs.name())
     });
     let [blur_inputs, march_inputs] = surface_inputs;
+    // What Resolution Auto resolves to (SPREADLIGHT_RESOLUTION_AUTO): a
+    // bench must not measure another setting than the one asked for.
+    let auto = AutoChoice::from_env().map_err(anyhow::Error::msg)?;
+    resolution::set_auto_choice(&renderer, auto);
     let (blur_inputs, march_inputs) = (blur_inputs?, march_inputs?);
     let light_fusion = if fusion.fuses_on(renderer.gpu.adapter_class()) {
         "fused"
@@ -349,6 +363,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     geometry.set_timing(true);
     let mut reported = Default::default();
     let mut series = Series::default();
+    let mut half_effects = HALF_COUNTERS.map(|(effect, _)| (effect, 0));
     // Per pass position (frames render the same passes in the same order).
     let mut passes: Vec<PassSeries> = Vec::new();
     let total = args.warmup + args.frames.max(1);
@@ -393,6 +408,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         series.pipelines_kept += report.counter("pipelines kept");
         series.bind_groups_kept += report.counter("bind groups kept");
         series.bind_groups_created += report.counter("bind groups created");
+        // Which effects ran at half resolution (the last timed frame's).
+        half_effects = HALF_COUNTERS.map(|(effect, counter)| (effect, report.counter(counter)));
         series.eval.push((cpu - report.record_ms).max(0.0));
         if let Some(span) = report.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
@@ -485,6 +502,13 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "light_sums": light_sums,
             "blur_inputs": blur_inputs,
             "march_inputs": march_inputs,
+            "resolution_auto": auto.name(),
+            // Per effect, how many of its nodes ran at half resolution
+            // (Auto resolved, or set); the rest ran at Full.
+            "half_resolution": half_effects
+                .iter()
+                .map(|&(effect, n)| (effect.to_owned(), serde_json::json!(n)))
+                .collect::<serde_json::Map<_, _>>(),
             "gpu_ms_median": gpu,
             "gpu_idle_ms_median": idle,
             "cpu_ms_median": cpu,
@@ -511,13 +535,19 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion}, light sums {light_sums}, blurs read {blur_inputs}, rays {march_inputs})",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion}, light sums {light_sums}, blurs read {blur_inputs}, rays {march_inputs}, Resolution Auto {}: {})",
             args.patch.display(),
             args.size.0,
             args.size.1,
             args.frames,
             args.timing,
-            args.recording
+            args.recording,
+            auto.name(),
+            half_effects
+                .iter()
+                .map(|(effect, n)| format!("{effect} half {n}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         );
         let show =
             |v: Option<f64>| v.map_or("n/a (no timestamps)".to_owned(), |ms| format!("{ms:.3} ms"));

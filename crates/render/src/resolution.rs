@@ -13,25 +13,60 @@
 //! than a downsampled guess, and a quarter of the pixels come out exactly
 //! as at full resolution.
 //!
+//! AO and SSGI keep the rest of their chain at half size too (the temporal
+//! blend and both depth-aware blur passes, each half texel reading the full
+//! G-buffer at its own pixel and tapping every second full pixel), and
+//! upsample once at the end, where the upsample also does what their last
+//! blur pass did at full size (AO's grey RGBA output and `COMBINE`, SSGI's
+//! ambient): see [`UpsampleKey`]'s `Ao`, `AoCombine` and `Ambient`.
+//!
 //! [`Resolution::Full`] changes nothing: the same shaders and passes as
 //! before the setting existed, so full-resolution images are bit-identical.
+//!
+//! [`Resolution::Auto`] (the pins' default) is Half for frames of at least
+//! [`AUTO_HALF_FROM_PIXELS`] pixels and Full below; each effect resolves it
+//! when it declares its passes ([`Resolution::resolve`]), and
+//! [`AUTO_VAR`] forces what it resolves to.
 
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
 pub use crate::resolution_key::UpsampleKey;
 
+use std::sync::atomic::{AtomicU8, Ordering};
+
 /// The shader feature of a pass's half-resolution permutation.
 pub const HALF_FEATURE: &str = "HALF";
+
+/// The frame size (pixels of the G-buffer) from which [`Resolution::Auto`]
+/// is Half. 1920x1080: on the H200 the half chain saves most at 1080p and
+/// above, where the AO/SSGI family is about 1.0 ms of post.ron's 2.4, and
+/// its error (docs/indirect-light.md#half-resolution) is smallest relative
+/// to a pixel's size; below it the passes are cheap and a small image shows
+/// the half grid's softening more.
+pub const AUTO_HALF_FROM_PIXELS: u64 = 1920 * 1080;
+
+/// The environment variable that forces what [`Resolution::Auto`] resolves
+/// to: `full`, `half`, or `size` (the rule, [`AUTO_HALF_FROM_PIXELS`]).
+pub const AUTO_VAR: &str = "SPREADLIGHT_RESOLUTION_AUTO";
+
+/// Statistic: effects whose Resolution Auto resolved to Half this frame.
+pub const AUTO_HALF: &str = "Resolution Auto ran at Half";
+/// Statistic: effects whose Resolution Auto resolved to Full this frame.
+pub const AUTO_FULL: &str = "Resolution Auto ran at Full";
 
 /// At which resolution an effect's expensive pass runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Resolution {
-    /// Every pixel: the reference.
+    /// Half at [`AUTO_HALF_FROM_PIXELS`] pixels and above, Full below
+    /// ([`Resolution::resolve`]; [`AUTO_VAR`] forces it).
     #[default]
+    Auto,
+    /// Every pixel: the reference.
     Full,
     /// One pixel in four, upsampled with depth awareness: about a quarter
     /// of the pass's cost, with the error `spreadlight accuracy` reports.
@@ -40,12 +75,15 @@ pub enum Resolution {
 
 impl Resolution {
     /// The pin's option names, in order.
-    pub const NAMES: [&'static str; 2] = ["Full", "Half"];
+    pub const NAMES: [&'static str; 3] = ["Auto", "Full", "Half"];
     /// Every resolution, in the order of [`Resolution::NAMES`].
-    pub const ALL: [Resolution; 2] = [Resolution::Full, Resolution::Half];
+    pub const ALL: [Resolution; 3] = [Resolution::Auto, Resolution::Full, Resolution::Half];
+    /// The two an effect runs at (what [`Resolution::resolve`] returns).
+    pub const RESOLVED: [Resolution; 2] = [Resolution::Full, Resolution::Half];
 
     pub fn name(self) -> &'static str {
         match self {
+            Resolution::Auto => "Auto",
             Resolution::Full => "Full",
             Resolution::Half => "Half",
         }
@@ -54,12 +92,35 @@ impl Resolution {
     /// Parse a pin or command-line value (case-insensitive).
     pub fn parse(name: &str) -> Option<Self> {
         match name.to_ascii_lowercase().as_str() {
+            "auto" => Some(Resolution::Auto),
             "full" => Some(Resolution::Full),
             "half" => Some(Resolution::Half),
             _ => None,
         }
     }
 
+    /// What an effect runs at for a G-buffer of `pixels`: Full or Half as
+    /// set, and Auto as `renderer`'s [`AutoChoice`] says (by default the
+    /// size rule).
+    pub fn resolve(self, renderer: &Renderer, pixels: (u32, u32)) -> Resolution {
+        match self {
+            Resolution::Auto => auto_choice(renderer).resolve(pixels),
+            set => set,
+        }
+    }
+
+    /// [`Resolution::resolve`] for an effect declaring its passes into
+    /// `fg`, counting what Auto resolved to ([`AUTO_HALF`], [`AUTO_FULL`]),
+    /// so `stats` and `bench --json` say it.
+    pub fn resolve_in(self, renderer: &Renderer, fg: &mut FrameGraph<'_>, pixels: (u32, u32)) -> Resolution {
+        let resolved = self.resolve(renderer, pixels);
+        if self == Resolution::Auto {
+            fg.count(if resolved.is_half() { AUTO_HALF } else { AUTO_FULL }, 1);
+        }
+        resolved
+    }
+
+    /// Half, as set or resolved (Auto is neither until [`Resolution::resolve`]).
     pub fn is_half(self) -> bool {
         self == Resolution::Half
     }
@@ -69,10 +130,11 @@ impl Resolution {
         self.is_half().then_some(HALF_FEATURE)
     }
 
-    /// The pixels the expensive pass writes for a full size of `full`.
+    /// The pixels the expensive pass writes for a full size of `full`
+    /// (Auto, which an effect resolves first, counts as Full).
     pub fn pixels(self, full: (u32, u32)) -> (u32, u32) {
         match self {
-            Resolution::Full => full,
+            Resolution::Full | Resolution::Auto => full,
             Resolution::Half => (full.0.div_ceil(2).max(1), full.1.div_ceil(2).max(1)),
         }
     }
@@ -82,7 +144,7 @@ impl Resolution {
     /// sizes the other way).
     pub fn size_rule(self, full_rule: SizeRule, full: (u32, u32)) -> SizeRule {
         match self {
-            Resolution::Full => full_rule,
+            Resolution::Full | Resolution::Auto => full_rule,
             Resolution::Half => {
                 let (width, height) = self.pixels(full);
                 SizeRule::Absolute { width, height }
@@ -93,8 +155,136 @@ impl Resolution {
     /// A suffix for pass names, so the frame report says which resolution ran.
     pub fn pass_suffix(self) -> &'static str {
         match self {
-            Resolution::Full => "",
+            Resolution::Full | Resolution::Auto => "",
             Resolution::Half => " (half)",
+        }
+    }
+}
+
+/// What [`Resolution::Auto`] resolves to on a renderer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AutoChoice {
+    /// Half from [`AUTO_HALF_FROM_PIXELS`] on, Full below.
+    #[default]
+    Size,
+    /// Always Full (to measure against the rule).
+    Full,
+    /// Always Half.
+    Half,
+}
+
+impl AutoChoice {
+    pub fn name(self) -> &'static str {
+        match self {
+            AutoChoice::Size => "size",
+            AutoChoice::Full => "full",
+            AutoChoice::Half => "half",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        match name.to_ascii_lowercase().as_str() {
+            "size" => Some(AutoChoice::Size),
+            "full" => Some(AutoChoice::Full),
+            "half" => Some(AutoChoice::Half),
+            _ => None,
+        }
+    }
+
+    /// What [`AUTO_VAR`] asks for; unset, the size rule. A value it does not
+    /// know is an error naming the variable and the value.
+    pub fn from_env() -> Result<Self, String> {
+        match std::env::var(AUTO_VAR) {
+            Err(std::env::VarError::NotPresent) => Ok(AutoChoice::default()),
+            Err(e) => Err(format!("{AUTO_VAR}: {e}")),
+            Ok(value) => Self::parse(&value).ok_or_else(|| {
+                format!("{AUTO_VAR} is `{value}`: it takes `full`, `half` or `size`")
+            }),
+        }
+    }
+
+    /// Auto's resolution for a G-buffer of `pixels`.
+    pub fn resolve(self, pixels: (u32, u32)) -> Resolution {
+        match self {
+            AutoChoice::Full => Resolution::Full,
+            AutoChoice::Half => Resolution::Half,
+            AutoChoice::Size => {
+                if u64::from(pixels.0) * u64::from(pixels.1) >= AUTO_HALF_FROM_PIXELS {
+                    Resolution::Half
+                } else {
+                    Resolution::Full
+                }
+            }
+        }
+    }
+
+    fn code(self) -> u8 {
+        match self {
+            AutoChoice::Size => 0,
+            AutoChoice::Full => 1,
+            AutoChoice::Half => 2,
+        }
+    }
+
+    fn from_code(code: u8) -> Self {
+        match code {
+            1 => AutoChoice::Full,
+            2 => AutoChoice::Half,
+            _ => AutoChoice::Size,
+        }
+    }
+}
+
+/// A renderer's [`AutoChoice`], kept in its states (`Renderer::state`), so
+/// tests can force one renderer without an environment variable that would
+/// reach every renderer of the process.
+#[derive(Default)]
+struct AutoState {
+    /// 0: not read from the environment yet; else 1 + the code.
+    code: AtomicU8,
+}
+
+/// What Auto resolves to on `renderer` ([`AUTO_VAR`] until set).
+pub fn auto_choice(renderer: &Renderer) -> AutoChoice {
+    let state = renderer.state::<AutoState>(0);
+    match state.code.load(Ordering::Relaxed) {
+        0 => {
+            let choice = AutoChoice::from_env().unwrap_or_else(|e| {
+                // Not fatal: the frame renders either way; the rule stands.
+                eprintln!("warning: {e}; Auto follows the frame size");
+                AutoChoice::default()
+            });
+            state.code.store(1 + choice.code(), Ordering::Relaxed);
+            choice
+        }
+        code => AutoChoice::from_code(code - 1),
+    }
+}
+
+/// Make Auto resolve as `choice` on `renderer` from the next frame on.
+pub fn set_auto_choice(renderer: &Renderer, choice: AutoChoice) {
+    renderer
+        .state::<AutoState>(0)
+        .code
+        .store(1 + choice.code(), Ordering::Relaxed);
+}
+
+/// A recipe's resolution as it resolved when it last declared its passes,
+/// for the methods that run later (a pass's closure) or have no frame size.
+#[derive(Debug, Default)]
+pub struct ResolvedCell(AtomicU8);
+
+impl ResolvedCell {
+    pub fn set(&self, resolution: Resolution) {
+        self.0.store(u8::from(resolution.is_half()), Ordering::Relaxed);
+    }
+
+    /// Full until first set.
+    pub fn get(&self) -> Resolution {
+        if self.0.load(Ordering::Relaxed) == 1 {
+            Resolution::Half
+        } else {
+            Resolution::Full
         }
     }
 }
@@ -226,6 +416,80 @@ pub fn declare_upsample<'a>(
     });
 }
 
+/// What the upsample at the end of a half chain does besides upsampling:
+/// what the effect's last full-resolution pass did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Finish<'s> {
+    /// AO: the half R32 visibility into the grey RGBA16F output, times
+    /// another AO (frame-graph name) when given.
+    Ao { combine: Option<&'s str> },
+    /// SSGI: the half (bounce, escaped share) into the full RGBA16F output,
+    /// with the ambient light (frame-graph name) times the escaped share
+    /// added when given.
+    Light { ambient: Option<&'s str> },
+}
+
+impl Finish<'_> {
+    /// The upsample's permutation.
+    pub fn key(self) -> UpsampleKey {
+        match self {
+            Finish::Ao { combine: None } => UpsampleKey::Ao,
+            Finish::Ao { combine: Some(_) } => UpsampleKey::AoCombine,
+            Finish::Light { ambient: None } => UpsampleKey::Rgba16,
+            Finish::Light { ambient: Some(_) } => UpsampleKey::Ambient,
+        }
+    }
+}
+
+/// The last pass of a half chain (AO, SSGI): the depth-aware upsample of
+/// `half` into `full`, doing what [`Finish`] says.
+pub struct FinishPass<'s, 'g> {
+    pub name: PassName,
+    pub owner: Option<u32>,
+    pub gbuffer: &'g GBuffer,
+    /// The half-size result of the chain.
+    pub half: &'s str,
+    /// The effect's full-size output.
+    pub full: &'s str,
+    pub desc: TextureDesc,
+    pub finish: Finish<'s>,
+    /// The statistic that counts it.
+    pub counter: &'static str,
+    /// The dispatch's debug label.
+    pub label: &'static str,
+}
+
+/// Declare the last pass of a half chain ([`FinishPass`]).
+pub fn declare_finish<'a>(fg: &mut FrameGraph<'a>, u: FinishPass<'_, 'a>) {
+    let g = &u.gbuffer.targets;
+    let key = u.finish.key();
+    let mut pass = fg.pass(u.name, u.owner);
+    let source = pass.read(u.half);
+    let depth = pass.read(&g.depth);
+    let normals = pass.read(&g.normals);
+    let extra = match u.finish {
+        Finish::Ao { combine } => combine.map(|c| ("combine", pass.read(c))),
+        Finish::Light { ambient } => ambient.map(|a| ("ambient", pass.read(a))),
+    };
+    let output = pass.write(u.full, u.desc);
+    pass.will_dispatch(&key.key(), "main");
+    let (gbuffer, counter, label) = (u.gbuffer, u.counter, u.label);
+    pass.run(move |cx| {
+        cx.count(counter, 1);
+        let mut b = Bindings::new()
+            .buffer("camera", gbuffer.camera_buffer())
+            .texture("depth", depth)
+            .texture("normals", normals)
+            .texture("source", source)
+            .texture("output", output);
+        if let Some((var, tex)) = extra {
+            b = b.texture(var, tex);
+        }
+        let size = gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(label, &key.key(), b, size)
+    });
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,11 +514,29 @@ mod tests {
 
     #[test]
     fn names_round_trip() {
-        for r in [Resolution::Full, Resolution::Half] {
+        for r in Resolution::ALL {
             assert_eq!(Resolution::parse(r.name()), Some(r));
         }
         assert_eq!(Resolution::parse("HALF"), Some(Resolution::Half));
         assert_eq!(Resolution::parse("quarter"), None);
-        assert_eq!(Resolution::default(), Resolution::Full);
+        assert_eq!(Resolution::default(), Resolution::Auto);
+        for c in [AutoChoice::Size, AutoChoice::Full, AutoChoice::Half] {
+            assert_eq!(AutoChoice::parse(c.name()), Some(c));
+            assert_eq!(AutoChoice::from_code(c.code()), c);
+        }
+        assert_eq!(AutoChoice::parse("quarter"), None);
+    }
+
+    #[test]
+    fn auto_is_half_from_the_threshold_on() {
+        let rule = AutoChoice::Size;
+        assert_eq!(rule.resolve((1920, 1080)), Resolution::Half);
+        assert_eq!(rule.resolve((3840, 2160)), Resolution::Half);
+        // One pixel short of 1080p, and a taller frame of as many pixels.
+        assert_eq!(rule.resolve((1920, 1079)), Resolution::Full);
+        assert_eq!(rule.resolve((1080, 1920)), Resolution::Half);
+        assert_eq!(rule.resolve((480, 270)), Resolution::Full);
+        assert_eq!(AutoChoice::Full.resolve((3840, 2160)), Resolution::Full);
+        assert_eq!(AutoChoice::Half.resolve((64, 64)), Resolution::Half);
     }
 }

@@ -21,6 +21,7 @@ use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::Recipe;
 use spreadlight_render::renderer::Renderer;
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::resolution::Resolution;
 use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 
 use occlusion_scene::{camera, constant, eye, gbuffer, image};
@@ -76,40 +77,68 @@ fn reference_blur(
     radius: i32,
     values: Values,
 ) -> Vec<[f32; 4]> {
+    reference_blur_at(sharp, depth, normals, radius, values, 1)
+}
+
+/// The two-pass blur on the CPU over an image of one texel per `stride` x
+/// `stride` block (2: the half chain's), each texel at its block's
+/// top-left full pixel: its surface read there, taps `stride` full pixels
+/// apart, the radius ceil(radius / stride) texels and sigma divided by
+/// `stride`, so the Gaussian covers the same screen extent.
+fn reference_blur_at(
+    sharp: &[[f32; 4]],
+    depth: &ImageF32,
+    normals: &ImageF32,
+    radius: i32,
+    values: Values,
+    stride: i32,
+) -> Vec<[f32; 4]> {
     let c = camera(eye(), SIZE.0 as f32 / SIZE.1 as f32);
     let inverse = reverse_z(c.projection).inverse();
-    let (w, h) = (SIZE.0 as i32, SIZE.1 as i32);
+    let full_w = SIZE.0 as i32;
+    let (w, h) = (
+        (SIZE.0 as i32 + stride - 1) / stride,
+        (SIZE.1 as i32 + stride - 1) / stride,
+    );
+    // A texel of the image, and the full pixel (of depth and normals) it stands at.
     let at = |x: i32, y: i32| (y * w + x) as usize;
+    let full = |x: i32, y: i32| (y * stride * full_w + x * stride) as usize;
     let distance = |x: i32, y: i32| {
-        let d = depth.pixels[at(x, y)][0];
+        let d = depth.pixels[full(x, y)][0];
+        let (px, py) = (x * stride, y * stride);
         let ndc = glam::Vec2::new(
-            (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0,
-            1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0,
+            (px as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0,
+            1.0 - (py as f32 + 0.5) / SIZE.1 as f32 * 2.0,
         );
         let p = inverse * glam::Vec4::new(ndc.x, ndc.y, d, 1.0);
         -p.z / p.w
     };
     let normal = |x: i32, y: i32, fallback: Vec3| {
-        let n = Vec3::from_slice(&normals.pixels[at(x, y)][..3]);
+        let n = Vec3::from_slice(&normals.pixels[full(x, y)][..3]);
         if n.length_squared() > 1e-20 {
             n.normalize()
         } else {
             fallback
         }
     };
-    let sigma = (radius.max(1) as f32) * 0.5;
+    let sigma = (radius.max(1) as f32) * 0.5 / stride as f32;
+    let radius = (radius + stride - 1) / stride;
     let pass = |image: &[[f32; 4]], axis: (i32, i32)| -> Vec<[f32; 4]> {
         let mut out = image.to_vec();
         for y in 0..h {
             for x in 0..w {
-                if depth.pixels[at(x, y)][0] <= 0.0 {
+                if depth.pixels[full(x, y)][0] <= 0.0 {
                     continue;
                 }
                 let (z0, n0) = (distance(x, y), normal(x, y, Vec3::Z));
                 let (mut sum, mut weights) = ([0.0f32; 4], 0.0f32);
                 for o in -radius..=radius {
                     let (qx, qy) = (x + axis.0 * o, y + axis.1 * o);
-                    if qx < 0 || qy < 0 || qx >= w || qy >= h || depth.pixels[at(qx, qy)][0] <= 0.0
+                    if qx < 0
+                        || qy < 0
+                        || qx >= w
+                        || qy >= h
+                        || depth.pixels[full(qx, qy)][0] <= 0.0
                     {
                         continue;
                     }
@@ -151,14 +180,16 @@ fn check(
     sharp: &[[f32; 4]],
     channels: usize,
 ) -> usize {
+    assert_eq!(blurred.pixels.len(), expected.len(), "{what}: size");
+    let width = blurred.width as usize;
     let mut changed = 0;
     for (i, (got, want)) in blurred.pixels.iter().zip(expected).enumerate() {
         for k in 0..channels {
             assert!(
                 (got[k] - want[k]).abs() < 2e-3 * want[k].abs().max(1.0),
                 "{what}, pixel ({}, {}), channel {k}: {} against {}",
-                i % SIZE.0 as usize,
-                i / SIZE.0 as usize,
+                i % width,
+                i / width,
                 got[k],
                 want[k]
             );
@@ -433,4 +464,211 @@ fn the_packed_surface_blurs_as_the_gbuffer_does() {
         worst[1],
         2 * 4 * SIZE.0 * SIZE.1
     );
+}
+
+/// Pass steps of a report, for messages.
+fn steps(report: &FrameReport) -> Vec<String> {
+    report.passes.iter().map(|p| p.name.clone()).collect()
+}
+
+/// The half chain ran its blur at half size (no full-size blur pass) and
+/// upsampled once.
+fn assert_half_passes(report: &FrameReport, what: &str) {
+    for step in ["blur x (half)", "blur y (half)", "upsample"] {
+        let named = report
+            .passes
+            .iter()
+            .filter(|p| p.step.as_deref() == Some(step))
+            .count();
+        assert_eq!(named, 1, "{what}: {step} in {:?}", steps(report));
+    }
+    for step in ["blur x", "blur y"] {
+        assert!(
+            !report.passes.iter().any(|p| p.step.as_deref() == Some(step)),
+            "{what}: no full-size {step} in {:?}",
+            steps(report)
+        );
+    }
+}
+
+/// Every full pixel on an even row and column is a half texel: the
+/// upsample's bilinear weight there is the texel's alone, so the output is
+/// `expect(texel, pixel)` up to the RGBA16F output's rounding.
+fn check_even_pixels(
+    what: &str,
+    output: &ImageF32,
+    half: &ImageF32,
+    channels: usize,
+    expect: impl Fn([f32; 4], usize) -> [f32; 4],
+) {
+    for ty in 0..half.height {
+        for tx in 0..half.width {
+            let (x, y) = (tx * 2, ty * 2);
+            let i = (y * SIZE.0 + x) as usize;
+            let want = expect(half.pixel(tx, ty), i);
+            let got = output.pixel(x, y);
+            for k in 0..channels {
+                assert!(
+                    (got[k] - want[k]).abs() < 2e-3 * want[k].abs().max(1.0),
+                    "{what}, pixel ({x}, {y}), channel {k}: {} against {}",
+                    got[k],
+                    want[k]
+                );
+            }
+        }
+    }
+}
+
+/// AO's half chain (Resolution::Half, no temporal blend): both blur passes
+/// run on the half-size estimate, each half texel reading the G-buffer at
+/// its own full pixel with taps two full pixels apart and the radius and
+/// sigma halved (the CPU's `reference_blur_at` with stride 2), and the
+/// upsample writes it (times the combined AO) to the full-size output,
+/// exactly at the pixels that are half texels. Depth edges (the balls) and
+/// the empty background (the sky, visibility 1) are in the frame; nothing
+/// is NaN or infinite.
+#[test]
+fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
+    for (radius, combine) in [(1u32, false), (4, false), (4, true), (7, false)] {
+        let renderer = test_renderer();
+        let g = gbuffer(&renderer, eye(), None, SIZE);
+        let settings = AoSettings {
+            mode: AoMode::Stochastic,
+            radius: 1.0,
+            samples: 8,
+            steps: 8,
+            temporal_blend: 0.0,
+            blur_radius: radius,
+            resolution: Resolution::Half,
+            ..Default::default()
+        };
+        let other = combine.then(|| {
+            let hbao = AoSettings {
+                mode: AoMode::Hbao,
+                blur_radius: 0,
+                resolution: Resolution::Full,
+                ..settings
+            };
+            AmbientOcclusion::new(&renderer, Some(8), g.clone(), hbao, None)
+        });
+        let ao = AmbientOcclusion::new(
+            &renderer,
+            Some(7),
+            g.clone(),
+            settings,
+            other.as_ref().map(|o| o.texture()),
+        );
+        let [raw, blurred] = ao.half_targets();
+        let mut read = vec![
+            raw.as_str(),
+            blurred.as_str(),
+            ao.output.as_str(),
+            &g.targets.depth,
+            &g.targets.normals,
+        ];
+        read.extend(other.as_ref().map(|o| o.output.as_str()));
+        let (report, images) =
+            render_and_read(&renderer, ao.as_ref(), SIZE, &read).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let what = format!("AO half chain, radius {radius}, combined {combine}");
+        assert_half_passes(&report, &what);
+        let (raw, blurred, output) = (&images[0], &images[1], &images[2]);
+        let (depth, normals) = (&images[3], &images[4]);
+        assert_eq!((raw.width, raw.height), (SIZE.0.div_ceil(2), SIZE.1.div_ceil(2)));
+        for image in [raw, blurred, output] {
+            assert!(image.all_finite(), "{what}");
+        }
+        let expected = reference_blur_at(
+            &raw.pixels,
+            depth,
+            normals,
+            radius as i32,
+            Values::Occlusion,
+            2,
+        );
+        let changed = check(&what, blurred, &expected, &raw.pixels, 1);
+        assert!(changed > 150, "{what}: the blur changed {changed} texels");
+        let sky = depth.pixels.iter().filter(|d| d[0] <= 0.0).count();
+        assert!(sky > 100, "{what}: the sky is in the frame ({sky} pixels)");
+        check_even_pixels(&what, output, blurred, 4, |t, i| {
+            let other = images.get(5).map_or(1.0, |o| o.pixels[i][0].clamp(0.0, 1.0));
+            let v = t[0].clamp(0.0, 1.0) * other;
+            // The sky: nothing occludes it (visibility 1, times the other AO).
+            let v = if depth.pixels[i][0] <= 0.0 { other } else { v };
+            [v, v, v, 1.0]
+        });
+        assert!(
+            output.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0])),
+            "{what}: visibility in 0..1"
+        );
+    }
+}
+
+/// SSGI's half chain: the same blur on its four channels at half size,
+/// then the upsample adds the ambient times the escaped share (alpha 1),
+/// the sky taking the ambient alone.
+#[test]
+fn the_half_chain_ssgi_blur_is_the_gaussian_at_half_size() {
+    let lit: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
+        .map(|i| match (i % SIZE.0 / 3) % 3 {
+            0 => [2.0, 0.2, 0.1, 1.0],
+            1 => [0.1, 1.5, 0.3, 1.0],
+            _ => [0.2, 0.3, 3.0, 1.0],
+        })
+        .collect();
+    let sky = [0.0, 0.1, 0.4];
+    for (radius, ambient) in [(1u32, false), (4, true), (9, true)] {
+        let renderer = test_renderer();
+        let g = gbuffer(&renderer, eye(), None, SIZE);
+        let lit = image(&renderer, &lit, SIZE, "lit");
+        let sky_texture = constant(&renderer, sky, SIZE, "ambient");
+        let settings = SsgiSettings {
+            radius: 1.0,
+            samples: 2,
+            temporal_blend: 0.0,
+            blur_radius: radius,
+            resolution: Resolution::Half,
+            ..Default::default()
+        };
+        let gi = Ssgi::new(
+            &renderer,
+            Some(11),
+            g.clone(),
+            lit.texture_ref(),
+            ambient.then(|| sky_texture.texture_ref()),
+            settings,
+        );
+        let [raw, blurred] = gi.half_targets();
+        let read = [
+            raw.as_str(),
+            blurred.as_str(),
+            gi.output.as_str(),
+            &g.targets.depth,
+            &g.targets.normals,
+        ];
+        let (report, images) =
+            render_and_read(&renderer, gi.as_ref(), SIZE, &read).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let what = format!("SSGI half chain, radius {radius}, ambient {ambient}");
+        assert_half_passes(&report, &what);
+        let (raw, blurred, output) = (&images[0], &images[1], &images[2]);
+        let (depth, normals) = (&images[3], &images[4]);
+        for image in [raw, blurred, output] {
+            assert!(image.all_finite(), "{what}");
+        }
+        let expected = reference_blur_at(&raw.pixels, depth, normals, radius as i32, Values::Light, 2);
+        let changed = check(&what, blurred, &expected, &raw.pixels, 4);
+        assert!(changed > 150, "{what}: the blur changed {changed} texels");
+        check_even_pixels(&what, output, blurred, 4, |t, i| {
+            if !ambient {
+                return t;
+            }
+            if depth.pixels[i][0] <= 0.0 {
+                [sky[0], sky[1], sky[2], 1.0]
+            } else {
+                let [r, g, b] = [0, 1, 2].map(|k| (t[k] + sky[k] * t[3]).min(65000.0));
+                [r, g, b, 1.0]
+            }
+        });
+    }
 }

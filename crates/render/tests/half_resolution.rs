@@ -500,3 +500,188 @@ fn the_upsample_does_not_bleed_across_a_silhouette() {
         "a plain bilinear upsample would bleed at {bilinear_bleeds} of them"
     );
 }
+
+/// What a declared (not executed) frame of `size` plans for AO's and
+/// SSGI's half-size raw targets: their sizes, None where the effect runs
+/// at Full.
+fn planned_half(
+    renderer: &Renderer,
+    ao: &AmbientOcclusion,
+    gi: &Ssgi,
+    size: (u32, u32),
+) -> [Option<(u32, u32)>; 2] {
+    let mut fg = FrameGraph::new(size);
+    ao.declare(renderer, &mut fg);
+    gi.declare(renderer, &mut fg);
+    let planned = |name: &str| fg.planned(name).map(|k| (k.width, k.height));
+    [
+        planned(&ao.half_targets()[0]),
+        planned(&gi.half_targets()[0]),
+    ]
+}
+
+/// `Resolution::Auto`, the default, is Half for frames of 1920x1080 pixels
+/// and more and Full below (the frame graph is declared at each size, not
+/// rendered), and the renderer's choice (what SPREADLIGHT_RESOLUTION_AUTO
+/// sets) forces it either way; Full and Half as set are never changed.
+#[test]
+fn auto_is_half_from_1080p_on_and_the_choice_forces_it() {
+    use spreadlight_render::resolution::{AUTO_HALF_FROM_PIXELS, AutoChoice, set_auto_choice};
+    assert_eq!(AUTO_HALF_FROM_PIXELS, 1920 * 1080);
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let (source, _) = lit(&renderer, &g);
+    let effects = |resolution| {
+        let ao = AmbientOcclusion::new(
+            &renderer,
+            None,
+            g.clone(),
+            AoSettings {
+                resolution,
+                ..Default::default()
+            },
+            None,
+        );
+        let gi = Ssgi::new(
+            &renderer,
+            None,
+            g.clone(),
+            source.texture_ref(),
+            None,
+            SsgiSettings {
+                resolution,
+                ..Default::default()
+            },
+        );
+        (ao, gi)
+    };
+    assert_eq!(AoSettings::default().resolution, Resolution::Auto);
+    assert_eq!(SsgiSettings::default().resolution, Resolution::Auto);
+    let (ao, gi) = effects(Resolution::Auto);
+    let half = |w: u32, h: u32| Some((w.div_ceil(2), h.div_ceil(2)));
+    // The renderer's choice until set: the variable, unset in tests, so the rule.
+    for (size, want) in [
+        ((1920, 1080), half(1920, 1080)),
+        ((3840, 2160), half(3840, 2160)),
+        ((1921, 1081), half(1921, 1081)),
+        ((1920, 1079), None),
+        ((SIZE.0, SIZE.1), None),
+    ] {
+        set_auto_choice(&renderer, AutoChoice::Size);
+        assert_eq!(planned_half(&renderer, &ao, &gi, size), [want; 2], "{size:?}");
+    }
+    set_auto_choice(&renderer, AutoChoice::Full);
+    assert_eq!(planned_half(&renderer, &ao, &gi, (3840, 2160)), [None; 2]);
+    set_auto_choice(&renderer, AutoChoice::Half);
+    assert_eq!(
+        planned_half(&renderer, &ao, &gi, SIZE),
+        [half(SIZE.0, SIZE.1); 2]
+    );
+    // Set resolutions ignore the choice.
+    let (full_ao, full_gi) = effects(Resolution::Full);
+    assert_eq!(planned_half(&renderer, &full_ao, &full_gi, SIZE), [None; 2]);
+    set_auto_choice(&renderer, AutoChoice::Full);
+    let (half_ao, half_gi) = effects(Resolution::Half);
+    assert_eq!(
+        planned_half(&renderer, &half_ao, &half_gi, SIZE),
+        [half(SIZE.0, SIZE.1); 2]
+    );
+}
+
+/// Auto renders as Full below the threshold (the reference images' sizes)
+/// and as Half when forced, with the report saying which ran.
+#[test]
+fn auto_renders_as_what_it_resolves_to() {
+    use spreadlight_render::resolution::{AutoChoice, set_auto_choice};
+    let renderer = test_renderer();
+    let settings = AoSettings {
+        mode: AoMode::Hbao,
+        temporal_blend: 0.0,
+        ..Default::default()
+    };
+    let full = AoSettings {
+        resolution: Resolution::Full,
+        ..settings
+    };
+    let (_, auto) = ao_frame(&renderer, settings);
+    let (_, reference) = ao_frame(&renderer, full);
+    assert_eq!(auto.pixels, reference.pixels, "Auto below 1080p is Full");
+    set_auto_choice(&renderer, AutoChoice::Half);
+    let (auto_report, auto) = ao_frame(&renderer, settings);
+    let (full_report, _) = ao_frame(&renderer, full);
+    check_reports(
+        &full_report,
+        &auto_report,
+        "raw",
+        spreadlight_render::ssao::HALF_RESOLUTION,
+    );
+    let half = AoSettings {
+        resolution: Resolution::Half,
+        ..settings
+    };
+    let (_, forced) = ao_frame(&renderer, half);
+    assert_eq!(auto.pixels, forced.pixels, "Auto forced to half is Half");
+}
+
+/// The half chains with their temporal blend over several frames of one
+/// node: finite, in range, the history at half size started once and then
+/// reused; switching the node to Full starts it anew (a change of size, as
+/// a resize).
+#[test]
+fn the_half_chains_accumulate_at_half_size_and_stay_finite() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let (source, _) = lit(&renderer, &g);
+    let ao_settings = |resolution| AoSettings {
+        mode: AoMode::Stochastic,
+        samples: 4,
+        temporal_blend: 0.9,
+        resolution,
+        ..Default::default()
+    };
+    let gi_settings = |resolution| SsgiSettings {
+        samples: 2,
+        temporal_blend: 0.9,
+        resolution,
+        ..Default::default()
+    };
+    let mut frames = Vec::new();
+    for resolution in [Resolution::Half, Resolution::Half, Resolution::Half, Resolution::Full] {
+        let ao = AmbientOcclusion::new(&renderer, Some(21), g.clone(), ao_settings(resolution), None);
+        let gi = Ssgi::new(
+            &renderer,
+            Some(22),
+            g.clone(),
+            source.texture_ref(),
+            None,
+            gi_settings(resolution),
+        );
+        let both = Both(ao.clone(), gi.clone());
+        let (report, images) =
+            render_and_read(&renderer, &both, SIZE, &[&ao.output, &gi.output]).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        for image in &images {
+            assert!(image.all_finite(), "{resolution:?}");
+        }
+        assert!(images[0].pixels.iter().all(|p| (0.0..=1.0).contains(&p[0])));
+        if resolution.is_half() {
+            assert!(has_pass(&report, "temporal (half)"), "{:?}", report.passes);
+        }
+        frames.push((
+            report.counter("AO history reset"),
+            report.counter("SSGI history reset"),
+        ));
+        let _ = images;
+    }
+    assert_eq!(frames, [(1, 1), (0, 0), (0, 0), (1, 1)]);
+}
+
+/// Two effects declared in one frame.
+struct Both(Arc<AmbientOcclusion>, Arc<Ssgi>);
+
+impl Recipe for Both {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        self.0.declare(renderer, fg);
+        self.1.declare(renderer, fg);
+    }
+}

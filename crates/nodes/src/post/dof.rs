@@ -13,7 +13,7 @@ use crate::gpu::renderer;
 pub fn register(r: &mut Registry) {
     let d = DofSettings::default();
     r.add(
-        crate::resolution::with_help(NodeDef::new(
+        crate::resolution::with_full_half_help(NodeDef::new(
             "DOF",
             "Post",
             "Depth of field from a thin lens: Focal Length (mm, the scene in metres), F-Stop (0.5 and up; larger is \
@@ -34,7 +34,7 @@ pub fn register(r: &mut Registry) {
             let focus_distance = p.input("Focus Distance", 5.0f32);
             let samples = p.input("Samples", i64::from(d.samples));
             let max_radius = p.input("Max Radius", d.max_radius);
-            let resolution = crate::resolution::input(p);
+            let resolution = crate::resolution::input_full_half(p);
             let out = texture_output(p, "Texture");
             move |cx| {
                 let d = DofSettings::default();

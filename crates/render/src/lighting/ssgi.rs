@@ -5,21 +5,26 @@
 //! awareness. The output is indirect radiance per unit albedo, for
 //! CompositeLight's GI input; an optional ambient texture (an
 //! environment's diffuse light) is added so one texture carries both.
-//! At [`Resolution::Half`] the gather runs for one pixel in four and is
-//! upsampled with depth awareness (crate::resolution) before the rest.
+//! At [`Resolution::Half`] the gather runs for one pixel in four, and the
+//! temporal blend and both blur passes run on that half-size image too (the
+//! history at half size; the blur reading the full G-buffer at each half
+//! texel's own pixel, taps two pixels apart); one depth-aware upsample at
+//! the end writes the output and adds the ambient (crate::resolution's half
+//! chain). [`Resolution::Auto`] resolves to one of the two when the passes
+//! are declared, by the frame's size.
 
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
+use crate::frame_graph::{
+    Bindings, FrameGraph, PassBuilder, PassContext, SizeRule, Tex, TextureDesc,
+};
 use crate::gbuffer::GBuffer;
 use crate::packed_surface::{self, Reader, SurfaceInputs};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::resolution::{
-    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
-};
+use crate::resolution::{Finish, FinishPass, Resolution, declare_finish, written_target};
 use crate::shaders::Permutation;
 use crate::temporal::{RayParams, RayUniforms};
 
@@ -62,7 +67,7 @@ impl Default for SsgiSettings {
             temporal_blend: 0.9,
             blur_radius: 4,
             reset: false,
-            resolution: Resolution::Full,
+            resolution: Resolution::Auto,
         }
     }
 }
@@ -154,6 +159,16 @@ impl Ssgi {
         format!("{}/{what}", self.prefix)
     }
 
+    /// The half chain's targets (frame-graph names), for tests and tools:
+    /// the half-size gather and the blur's half-size result (what the
+    /// upsample reads when the blur runs).
+    pub fn half_targets(&self) -> [String; 2] {
+        [
+            written_target(&self.name("raw"), Resolution::Half),
+            self.name("out half"),
+        ]
+    }
+
     /// The persistent history (RGBA16F: bounce radiance, escaped share), per node.
     pub fn history_name(&self) -> String {
         format!("ssgi-history-{}", self.rays.key)
@@ -196,7 +211,10 @@ impl Ssgi {
         more: Bindings<'_>,
     ) -> Result<(), RenderError> {
         let mut size = self.gbuffer.pixel_size(cx.output_size);
-        if let SsgiKey::Gather { half: true, .. } = key {
+        if let SsgiKey::Gather { half: true, .. }
+        | SsgiKey::Temporal { half: true, .. }
+        | SsgiKey::Blur { half: true, .. } = key
+        {
             size = Resolution::Half.pixels(size);
         }
         let b = Bindings::new()
@@ -221,11 +239,15 @@ impl Ssgi {
             .begin(cx, &self.gbuffer, &self.ray_params(), reset, temporal);
     }
 
-    fn raw(&self, cx: &mut PassContext<'_>, io: &PassIo) -> Result<(), RenderError> {
+    fn raw(
+        &self,
+        cx: &mut PassContext<'_>,
+        io: &PassIo,
+        resolution: Resolution,
+    ) -> Result<(), RenderError> {
         self.begin_frame(cx);
-        let half = self.settings.resolution.is_half();
         let key = SsgiKey::Gather {
-            half,
+            half: resolution.is_half(),
             packed: io.view_z.is_some(),
         };
         self.dispatch(cx, "ssgi", key, io, Bindings::new())
@@ -233,8 +255,8 @@ impl Ssgi {
 
     /// Full resolution: the gather and the temporal blend in one pass
     /// (GATHER), writing the history with no raw target between.
-    fn fused(&self) -> bool {
-        self.temporal() && !self.settings.resolution.is_half()
+    fn fused(&self, resolution: Resolution) -> bool {
+        self.temporal() && !resolution.is_half()
     }
 
     /// The gather and the temporal blend in one dispatch ([`Ssgi::fused`]).
@@ -246,15 +268,17 @@ impl Ssgi {
     ) -> Result<(), RenderError> {
         self.begin_frame(cx);
         cx.count(GATHER_TEMPORAL, 1);
-        self.temporal_pass(cx, true, io, t)
+        self.temporal_pass(cx, true, false, io, t)
     }
 
     /// The temporal blend into the history (`io.output`): of the raw target,
-    /// or with `gather` of the bounce gathered in the same dispatch.
+    /// or with `gather` of the bounce gathered in the same dispatch; `half`:
+    /// the half chain's, at half size.
     fn temporal_pass(
         &self,
         cx: &mut PassContext<'_>,
         gather: bool,
+        half: bool,
         io: &PassIo,
         t: &TemporalIo,
     ) -> Result<(), RenderError> {
@@ -273,6 +297,7 @@ impl Ssgi {
         let key = SsgiKey::Temporal {
             gather,
             packed: io.view_z.is_some(),
+            half,
         };
         self.dispatch(cx, label, key, io, more)
     }
@@ -283,6 +308,7 @@ impl Ssgi {
         io: &PassIo,
         vertical: bool,
         ambient: Option<Tex>,
+        half: bool,
     ) -> Result<(), RenderError> {
         let label = if vertical {
             "ssgi blur y"
@@ -295,6 +321,7 @@ impl Ssgi {
         let key = SsgiKey::Blur {
             ambient: ambient.is_some(),
             packed: io.surface.is_some(),
+            half,
         };
         self.dispatch(cx, label, key, io, more)
     }
@@ -344,17 +371,19 @@ impl Ssgi {
     }
 
     /// A temporal pass: the bounce history (its output) and the view
-    /// distance under it, each with its twin holding last frame's.
+    /// distance under it, each with its twin holding last frame's; `size`:
+    /// the G-buffer's, or half of it (a change of size starts the history
+    /// anew, as a resize does).
     fn declare_temporal(
         &self,
         pass: &mut PassBuilder<'_, '_>,
         source: &str,
+        size: SizeRule,
     ) -> (PassIo, TemporalIo) {
         let (rgba16, r32) = (
             wgpu::TextureFormat::Rgba16Float,
             wgpu::TextureFormat::R32Float,
         );
-        let size = self.gbuffer.size;
         let io = self.declare_pass(
             pass,
             source,
@@ -378,60 +407,91 @@ impl Ssgi {
 }
 
 impl Ssgi {
-    /// The gather (full or half resolution, upsampled), then the temporal
-    /// blend in its own pass when there is one; returns what the blur reads.
+    /// The gather (full or half resolution), then the temporal blend in its
+    /// own pass when there is one (only at half resolution: at full the
+    /// gather blends itself); returns what the blur reads, half size at Half.
     /// `view_z`: the packed view z the gather's rays read.
-    fn declare_unfused<'a>(&'a self, fg: &mut FrameGraph<'a>, view_z: Option<&str>) -> String {
+    fn declare_unfused<'a>(
+        &'a self,
+        fg: &mut FrameGraph<'a>,
+        view_z: Option<&str>,
+        resolution: Resolution,
+    ) -> String {
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let raw = self.name("raw");
-        let resolution = self.settings.resolution;
-        let raw_target = written_target(&raw, resolution);
+        let raw_target = written_target(&self.name("raw"), resolution);
         let pixels = self.gbuffer.pixel_size(fg.output_size());
+        let size = resolution.size_rule(self.gbuffer.size, pixels);
         let mut pass = fg.pass(
             PassName::new("SSGI").step(format!("gather{}", resolution.pass_suffix())),
             self.owner,
         );
-        let mut io = self.declare_pass(
-            &mut pass,
-            &self.source.name,
-            &raw_target,
-            rgba.size(resolution.size_rule(self.gbuffer.size, pixels)),
-        );
+        let mut io = self.declare_pass(&mut pass, &self.source.name, &raw_target, rgba.size(size));
         io.view_z = view_z.map(|v| pass.read(v));
         let key = SsgiKey::Gather {
             half: resolution.is_half(),
             packed: io.view_z.is_some(),
         };
         pass.will_dispatch(&key.key(), "main");
-        pass.run(move |cx| self.raw(cx, &io));
-        declare_upsample(
-            fg,
-            resolution,
-            UpsamplePass {
-                name: PassName::new("SSGI").step("upsample"),
-                owner: self.owner,
-                gbuffer: &self.gbuffer,
-                half: &raw_target,
-                full: &raw,
-                desc: rgba,
-                format: UpsampleFormat::Rgba16,
-                counter: HALF_RESOLUTION,
-                label: "ssgi upsample",
-                detail: None,
-            },
-        );
+        pass.run(move |cx| self.raw(cx, &io, resolution));
         if !self.temporal() {
-            return raw;
+            return raw_target;
         }
-        let mut pass = fg.pass(PassName::new("SSGI").step("temporal"), self.owner);
-        let (io, t) = self.declare_temporal(&mut pass, &raw);
+        let mut pass = fg.pass(
+            PassName::new("SSGI").step(format!("temporal{}", resolution.pass_suffix())),
+            self.owner,
+        );
+        let (io, t) = self.declare_temporal(&mut pass, &raw_target, size);
+        let half = resolution.is_half();
         let key = SsgiKey::Temporal {
             gather: false,
             packed: false,
+            half,
         };
         pass.will_dispatch(&key.key(), "main");
-        pass.run(move |cx| self.temporal_pass(cx, false, &io, &t));
+        pass.run(move |cx| self.temporal_pass(cx, false, half, &io, &t));
         self.history_name()
+    }
+
+    /// The half chain's blur (x then y at half size, from the G-buffer: the
+    /// packed surface is full size) of `source`, then the upsample that
+    /// writes the output and adds the ambient ([`Finish::Light`]).
+    fn declare_half_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, half: SizeRule) {
+        let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(half);
+        if self.settings.blur_radius > 0 && !self.off() {
+            let key = SsgiKey::Blur {
+                ambient: false,
+                packed: false,
+                half: true,
+            };
+            for (vertical, step, target) in [
+                (false, "blur x (half)", "blurred half"),
+                (true, "blur y (half)", "out half"),
+            ] {
+                let target = self.name(target);
+                let mut pass = fg.pass(PassName::new("SSGI").step(step), self.owner);
+                let io = self.declare_pass(&mut pass, &source, &target, rgba);
+                pass.will_dispatch(&key.key(), "main");
+                pass.run(move |cx| self.blur(cx, &io, vertical, None, true));
+                source = target;
+            }
+        }
+        declare_finish(
+            fg,
+            FinishPass {
+                name: PassName::new("SSGI").step("upsample"),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                half: &source,
+                full: &self.output,
+                desc: TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+                    .size(self.gbuffer.size),
+                finish: Finish::Light {
+                    ambient: self.ambient.as_ref().map(|a| a.name.as_str()),
+                },
+                counter: HALF_RESOLUTION,
+                label: "ssgi upsample",
+            },
+        );
     }
 }
 
@@ -450,23 +510,30 @@ impl Recipe for Ssgi {
         let view_z = (!self.off()
             && packed_surface::inputs(renderer, Reader::Rays) == SurfaceInputs::Packed)
             .then(|| packed_surface::declare(fg, &self.gbuffer).view_z);
-        let source = if self.fused() {
+        let pixels = self.gbuffer.pixel_size(fg.output_size());
+        let resolution = self.settings.resolution.resolve_in(renderer, fg, pixels);
+        let source = if self.fused(resolution) {
             let mut pass = fg.pass(PassName::new("SSGI").step("gather"), self.owner);
-            let (mut io, t) = self.declare_temporal(&mut pass, &self.source.name);
+            let (mut io, t) = self.declare_temporal(&mut pass, &self.source.name, self.gbuffer.size);
             io.view_z = view_z.as_deref().map(|v| pass.read(v));
             let key = SsgiKey::Temporal {
                 gather: true,
                 packed: io.view_z.is_some(),
+                half: false,
             };
             pass.will_dispatch(&key.key(), "main");
             pass.run(move |cx| self.gather_temporal(cx, &io, &t));
             self.history_name()
         } else {
-            self.declare_unfused(fg, view_z.as_deref())
+            self.declare_unfused(fg, view_z.as_deref(), resolution)
         };
         let mut last = source;
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
+        }
+        if resolution.is_half() {
+            let half = resolution.size_rule(self.gbuffer.size, pixels);
+            return self.declare_half_blur(fg, last, half);
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
         // The taps of a blur (radius above 0) read the packed surface; the
@@ -482,9 +549,10 @@ impl Recipe for Ssgi {
             let key = SsgiKey::Blur {
                 ambient: false,
                 packed,
+                half: false,
             };
             pass.will_dispatch(&key.key(), "main");
-            pass.run(move |cx| self.blur(cx, &io, false, None));
+            pass.run(move |cx| self.blur(cx, &io, false, None, false));
             last = blurred;
         }
         let mut pass = fg.pass(PassName::new("SSGI").step("blur y"), self.owner);
@@ -494,8 +562,9 @@ impl Recipe for Ssgi {
         let key = SsgiKey::Blur {
             ambient: ambient.is_some(),
             packed,
+            half: false,
         };
         pass.will_dispatch(&key.key(), "main");
-        pass.run(move |cx| self.blur(cx, &io, true, ambient));
+        pass.run(move |cx| self.blur(cx, &io, true, ambient, false));
     }
 }

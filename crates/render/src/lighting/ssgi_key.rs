@@ -8,12 +8,14 @@ use crate::shaders::permutation::Permutation;
 /// resolution), or a blur pass (adding the ambient light in the last one).
 /// `packed`: a gather's rays read the G-buffer's packed view z, a blur's
 /// taps its packed surface (crate::packed_surface); a temporal blend alone
-/// reads neither.
+/// reads neither. `half`: SSGI's half-resolution chain (crate::resolution),
+/// whose blend and blurs run on the half-size image (a half blur never adds
+/// the ambient nor reads the packed surface: the upsample after it adds it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SsgiKey {
     Gather { half: bool, packed: bool },
-    Temporal { gather: bool, packed: bool },
-    Blur { ambient: bool, packed: bool },
+    Temporal { gather: bool, packed: bool, half: bool },
+    Blur { ambient: bool, packed: bool, half: bool },
 }
 
 impl Permutation for SsgiKey {
@@ -23,89 +25,74 @@ impl Permutation for SsgiKey {
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
-        let (on, packed): (&[&'static str], _) = match self {
-            SsgiKey::Gather { half, packed } => (
-                if half { &["HALF"] } else { &[] },
-                packed.then_some("PACKED_Z"),
-            ),
-            SsgiKey::Temporal { gather, packed } => (
+        let (on, half, packed): (&[&'static str], _, _) = match self {
+            SsgiKey::Gather { half, packed } => (&[], half, packed.then_some("PACKED_Z")),
+            SsgiKey::Temporal {
+                gather,
+                packed,
+                half,
+            } => (
                 if gather {
                     &["TEMPORAL", "GATHER"]
                 } else {
                     &["TEMPORAL"]
                 },
+                half,
                 packed.then_some("PACKED_Z"),
             ),
-            SsgiKey::Blur { ambient, packed } => (
+            SsgiKey::Blur {
+                ambient,
+                packed,
+                half,
+            } => (
                 if ambient {
                     &["BLUR", "AMBIENT"]
                 } else {
                     &["BLUR"]
                 },
+                half,
                 packed.then_some("PACKED"),
             ),
         };
-        on.iter().copied().chain(packed)
+        on.iter()
+            .copied()
+            .chain(half.then_some("HALF"))
+            .chain(packed)
     }
 
     fn all() -> Vec<Self> {
         use SsgiKey::{Blur, Gather, Temporal};
         // In the order of the feature sets as bits of FEATURES (the
         // permutation tests hold the enumeration to it). A blend alone never
-        // reads the view z: its packed twin is valid and unused, kept so the
-        // rules stay two (PACKED with BLUR, PACKED_Z without).
-        let plain = [
-            Gather {
-                half: false,
-                packed: false,
-            },
-            Temporal {
-                gather: false,
-                packed: false,
-            },
-            Temporal {
-                gather: true,
-                packed: false,
-            },
-            Blur {
-                ambient: false,
-                packed: false,
-            },
-            Blur {
-                ambient: true,
-                packed: false,
-            },
-            Gather {
-                half: true,
-                packed: false,
-            },
-        ];
-        let packed = [
-            Blur {
-                ambient: false,
-                packed: true,
-            },
-            Blur {
-                ambient: true,
-                packed: true,
-            },
-            Gather {
-                half: false,
-                packed: true,
-            },
-            Temporal {
-                gather: false,
-                packed: true,
-            },
-            Temporal {
-                gather: true,
-                packed: true,
-            },
-            Gather {
-                half: true,
-                packed: true,
-            },
-        ];
-        plain.into_iter().chain(packed).collect()
+        // reads the view z: its packed twins are valid and unused, kept so the
+        // rules stay few (PACKED with BLUR, PACKED_Z without).
+        let gather = |half, packed| Gather { half, packed };
+        let temporal = |gather, packed, half| Temporal {
+            gather,
+            packed,
+            half,
+        };
+        let blur = |ambient, packed, half| Blur {
+            ambient,
+            packed,
+            half,
+        };
+        vec![
+            gather(false, false),
+            temporal(false, false, false),
+            temporal(true, false, false),
+            blur(false, false, false),
+            blur(true, false, false),
+            gather(true, false),
+            temporal(false, false, true),
+            blur(false, false, true),
+            blur(false, true, false),
+            blur(true, true, false),
+            gather(false, true),
+            temporal(false, true, false),
+            temporal(true, true, false),
+            gather(true, true),
+            temporal(false, true, true),
+        ]
     }
 }

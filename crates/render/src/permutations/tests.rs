@@ -164,7 +164,7 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 fn the_permutation_count_is_unchanged() {
     assert_eq!(ENTRY_SHADERS.len(), 47);
     let count = all_permutations().len();
-    assert_eq!(count, 30_686);
+    assert_eq!(count, 30_695);
     let doc = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../docs/architecture.md"
@@ -413,10 +413,11 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
             &["VARIANCE_CLIP", "CATMULL_ROM"],
             vec![Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")],
         ),
+        // AO, AO_COMBINE, AMBIENT (half22): the half chains' last pass.
         (
             "resolution/upsample.wgsl",
-            &["R32", "DETAIL"],
-            choice(&["R32", "DETAIL"]),
+            &["R32", "DETAIL", "AO", "AO_COMBINE", "AMBIENT"],
+            choice(&["R32", "DETAIL", "AO", "AO_COMBINE", "AMBIENT"]),
         ),
         (
             "lighting/ssgi.wgsl",
@@ -427,8 +428,11 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
                 Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
                 Rule::Requires("AMBIENT", "BLUR"),
                 Rule::Requires("GATHER", "TEMPORAL"),
-                Rule::AtMostOne(&["HALF", "TEMPORAL"]),
-                Rule::AtMostOne(&["HALF", "BLUR"]),
+                // The half chain (half22): a blend and blurs at half size,
+                // never with the gather fused, the ambient or the packed surface.
+                Rule::AtMostOne(&["HALF", "GATHER"]),
+                Rule::AtMostOne(&["HALF", "AMBIENT"]),
+                Rule::AtMostOne(&["HALF", "PACKED"]),
                 // The packed surface (ao21): a blur's taps, or a gather's rays.
                 Rule::Requires("PACKED", "BLUR"),
                 Rule::AtMostOne(&["PACKED_Z", "BLUR"]),

@@ -127,11 +127,14 @@ impl Permutation for DepthKey {
 /// `ssao/blur.wgsl`: one direction of the depth-aware blur (the vertical
 /// one writes the output and may multiply another AO in), reading each
 /// tap's surface from the G-buffer or from its packed surface
-/// (crate::packed_surface).
+/// (crate::packed_surface). `half`: AO's half-resolution chain, both
+/// passes at half size from the G-buffer (never packed, never combining:
+/// the upsample that follows writes the output and combines).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BlurKey {
     pub pass: BlurPass,
     pub packed: bool,
+    pub half: bool,
 }
 
 /// Which pass of the blur.
@@ -144,7 +147,7 @@ pub enum BlurPass {
 
 impl Permutation for BlurKey {
     crate::shader_file!("ssao/blur.wgsl");
-    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE", "PACKED"];
+    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE", "PACKED", "HALF"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
         let (vertical, combine) = match self.pass {
@@ -157,6 +160,7 @@ impl Permutation for BlurKey {
             .into_iter()
             .chain(combine.then_some("COMBINE"))
             .chain(self.packed.then_some("PACKED"))
+            .chain(self.half.then_some("HALF"))
     }
 
     fn all() -> Vec<Self> {
@@ -165,27 +169,39 @@ impl Permutation for BlurKey {
             BlurPass::Vertical,
             BlurPass::VerticalCombine,
         ];
-        [false, true]
-            .into_iter()
-            .flat_map(|packed| passes.map(|pass| BlurKey { pass, packed }))
-            .collect()
+        let full = [false, true].into_iter().flat_map(|packed| {
+            passes.map(|pass| BlurKey {
+                pass,
+                packed,
+                half: false,
+            })
+        });
+        let half = [BlurPass::Horizontal, BlurPass::Vertical].map(|pass| BlurKey {
+            pass,
+            packed: false,
+            half: true,
+        });
+        full.chain(half).collect()
     }
 }
 
-/// `ssao/temporal.wgsl`: the history blend after a half-resolution upsample
-/// (one permutation).
+/// `ssao/temporal.wgsl`: the history blend after a half-resolution estimate:
+/// at full size after its upsample, or (`half`) at half size, AO's
+/// half-resolution chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TemporalKey;
+pub struct TemporalKey {
+    pub half: bool,
+}
 
 impl Permutation for TemporalKey {
     crate::shader_file!("ssao/temporal.wgsl");
-    const FEATURES: &'static [&'static str] = &[];
+    const FEATURES: &'static [&'static str] = &["HALF"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
-        std::iter::empty()
+        self.half.then_some("HALF").into_iter()
     }
 
     fn all() -> Vec<Self> {
-        vec![TemporalKey]
+        vec![TemporalKey { half: false }, TemporalKey { half: true }]
     }
 }

@@ -15,9 +15,13 @@
 //!    whose last pass also multiplies in another AO (`combine`: wide-range
 //!    times local, as Emeshe pairs them).
 //!
-//! At [`Resolution::Half`] step 2 runs for one pixel in four and is
-//! upsampled with depth awareness (crate::resolution) before step 3; the
-//! rest is unchanged.
+//! At [`Resolution::Half`] step 2 runs for one pixel in four, and steps 3
+//! and 4 run on that half-size image too (the history at half size, the
+//! blur reading the full G-buffer at each half texel's own pixel, taps two
+//! pixels apart); one depth-aware upsample at the end writes the output
+//! and multiplies `combine` in (crate::resolution's half chain).
+//! [`Resolution::Auto`] resolves to one of the two when the passes are
+//! declared, by the frame's size.
 //!
 //! Output: visibility 0..1 in RGB of an RGBA16F texture (1 where depth is
 //! empty), what `CompositeLight`'s Occlusion input reads.
@@ -32,9 +36,8 @@ use crate::packed_surface::{self, Reader, SurfaceInputs};
 use crate::recipe::{Recipe, TextureRef, declare_inputs, name_of, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::resolution::{
-    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
-};
+use crate::frame_graph::SizeRule;
+use crate::resolution::{Finish, FinishPass, Resolution, declare_finish, written_target};
 use crate::shaders::Permutation;
 use crate::temporal::{RayParams, RayUniforms};
 
@@ -83,7 +86,7 @@ impl Default for AoSettings {
             temporal_blend: 0.9,
             blur_radius: 4,
             reset: false,
-            resolution: Resolution::Full,
+            resolution: Resolution::Auto,
         }
     }
 }
@@ -154,6 +157,16 @@ impl AmbientOcclusion {
         format!("ao{}/{what}", self.id)
     }
 
+    /// The half chain's targets (frame-graph names), for tests and tools:
+    /// the half-size raw estimate and the blur's half-size result (what
+    /// the upsample reads when the blur runs).
+    pub fn half_targets(&self) -> [String; 2] {
+        [
+            written_target(&self.name("raw"), Resolution::Half),
+            self.name("out half"),
+        ]
+    }
+
     /// The persistent history texture's name (RGBA16F: visibility, view
     /// distance, world normal octahedron), kept per node and mode.
     pub fn history_name(&self) -> String {
@@ -171,8 +184,8 @@ impl AmbientOcclusion {
 
     /// Full resolution with accumulation: the estimate blends its history
     /// in the raw pass (ao.wgsl's TEMPORAL), with no raw target between.
-    fn fused(&self) -> bool {
-        self.temporal() && !self.settings.resolution.is_half()
+    fn fused(&self, resolution: Resolution) -> bool {
+        self.temporal() && !resolution.is_half()
     }
 
     /// What every AO pass but SAO's depth chain binds: the camera, the
@@ -200,14 +213,15 @@ impl AmbientOcclusion {
     }
 
     /// The history and its twin, last frame's (see TextureDesc::history),
-    /// with the velocity that reprojects it.
-    fn history<'a>(&'a self, pass: &mut PassBuilder<'_, 'a>) -> History {
+    /// with the velocity that reprojects it; `size`: the G-buffer's, or half
+    /// of it (a change of size starts the history anew, as a resize does).
+    fn history<'a>(&'a self, pass: &mut PassBuilder<'_, 'a>, size: SizeRule) -> History {
         pass.input("velocity_uv", &self.gbuffer.targets.velocity_uv);
         pass.history(
             ["history", "previous"],
             [&self.history_name(), &self.name("previous")],
             wgpu::TextureFormat::Rgba16Float,
-            self.gbuffer.size,
+            size,
         )
     }
 
@@ -230,6 +244,7 @@ impl AmbientOcclusion {
         mut b: Bindings<'a>,
         key: AoKey,
         fused: Option<History>,
+        resolution: Resolution,
     ) -> Result<(), RenderError> {
         let s = self.settings;
         let ray = RayParams {
@@ -246,7 +261,7 @@ impl AmbientOcclusion {
             b = b.buffer("fresh", self.rays.hand_over(cx, h)?);
             cx.count(ESTIMATE_TEMPORAL, 1);
         }
-        let size = s.resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
+        let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
         cx.dispatch_image(s.mode.name(), &key.key(), b, size)
     }
 }
@@ -287,8 +302,8 @@ impl Recipe for AmbientOcclusion {
             pass.dispatch_image(label, key.key(), size);
         }
         let raw = self.name("raw");
-        let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
+        let resolution = self.settings.resolution.resolve_in(renderer, fg, pixels);
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
         // The plain estimator's rays read the packed view z (not when off:
         // the early exit reads nothing).
@@ -304,7 +319,9 @@ impl Recipe for AmbientOcclusion {
         if let Some(view_z) = &view_z {
             pass.input("view_z", view_z);
         }
-        let fused = self.fused().then(|| self.history(&mut pass));
+        let fused = self
+            .fused(resolution)
+            .then(|| self.history(&mut pass, self.gbuffer.size));
         if fused.is_none() {
             let size = resolution.size_rule(self.gbuffer.size, pixels);
             pass.output(
@@ -320,47 +337,36 @@ impl Recipe for AmbientOcclusion {
             } else {
                 self.settings.mode
             },
-            target: match (resolution, fused) {
-                (Resolution::Half, _) => AoTarget::Half,
-                (Resolution::Full, Some(_)) => AoTarget::FullTemporal,
-                (Resolution::Full, None) => AoTarget::Full,
+            target: match (resolution.is_half(), fused) {
+                (true, _) => AoTarget::Half,
+                (false, Some(_)) => AoTarget::FullTemporal,
+                (false, None) => AoTarget::Full,
             },
             packed: view_z.is_some(),
         };
         pass.will_dispatch(&key.key(), "main");
-        pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
+        pass.run_bound(move |cx, b| self.raw(cx, b, key, fused, resolution));
         if fused.is_some() {
             // The estimate and its accumulation in one pass: straight to the blur.
             return self.declare_blur(fg, self.history_name(), packed);
         }
-        declare_upsample(
-            fg,
-            resolution,
-            UpsamplePass {
-                name: PassName::new(self.settings.mode.name()).step("upsample"),
-                owner: self.owner,
-                gbuffer: &self.gbuffer,
-                half: &written_target(&raw, resolution),
-                full: &raw,
-                desc: full(R32),
-                format: UpsampleFormat::R32,
-                counter: HALF_RESOLUTION,
-                label: "ao upsample",
-                detail: None,
-            },
-        );
+        if resolution.is_half() {
+            let half = resolution.size_rule(self.gbuffer.size, pixels);
+            return self.declare_half_chain(fg, written_target(&raw, resolution), half);
+        }
         if !self.temporal() {
             return self.declare_blur(fg, raw, packed);
         }
         let mut pass = self.pass(fg, "temporal");
         pass.input("raw", &raw);
         self.common(&mut pass);
-        let h = self.history(&mut pass);
-        pass.will_dispatch(&TemporalKey.key(), "main");
+        let h = self.history(&mut pass, self.gbuffer.size);
+        let key = TemporalKey { half: false };
+        pass.will_dispatch(&key.key(), "main");
         pass.run_bound(move |cx, b| {
             let b = b.buffer("temporal", self.rays.hand_over(cx, h)?);
             let size = self.gbuffer.pixel_size(cx.output_size);
-            cx.dispatch_image("ao temporal", &TemporalKey.key(), b, size)
+            cx.dispatch_image("ao temporal", &key.key(), b, size)
         });
         self.declare_blur(fg, self.history_name(), packed);
     }
@@ -385,6 +391,7 @@ impl AmbientOcclusion {
             let key = BlurKey {
                 pass: BlurPass::Horizontal,
                 packed: surface.is_some(),
+                half: false,
             };
             pass.dispatch_image("ao blur x", key.key(), self.gbuffer.size);
             source = self.name("blurred");
@@ -404,7 +411,74 @@ impl AmbientOcclusion {
                 Some(_) => BlurPass::VerticalCombine,
             },
             packed: surface.is_some(),
+            half: false,
         };
         pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
+    }
+}
+
+impl AmbientOcclusion {
+    /// AO's half-resolution chain after the half-size estimate `source`
+    /// (`half`: its size rule): the temporal blend into a half-size history
+    /// and both blur passes at half size (ssao/temporal.wgsl's and
+    /// ssao/blur.wgsl's HALF), then one depth-aware upsample that writes the
+    /// grey RGBA output and multiplies `combine` in
+    /// (resolution/upsample.wgsl's AO / AO_COMBINE). The blurs read the
+    /// G-buffer, never the packed surface (which is full size).
+    fn declare_half_chain<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, half: SizeRule) {
+        if self.temporal() {
+            let mut pass = self.pass(fg, "temporal (half)");
+            pass.input("raw", &source);
+            self.common(&mut pass);
+            let h = self.history(&mut pass, half);
+            let key = TemporalKey { half: true };
+            pass.will_dispatch(&key.key(), "main");
+            pass.run_bound(move |cx, b| {
+                let b = b.buffer("temporal", self.rays.hand_over(cx, h)?);
+                let size = half.pixels(cx.output_size);
+                cx.dispatch_image("ao temporal", &key.key(), b, size)
+            });
+            source = self.history_name();
+        }
+        if self.off() {
+            fg.count("AO off: radius 0", 1);
+        }
+        if self.settings.blur_radius > 0 && !self.off() {
+            let steps = [
+                ("blur x (half)", BlurPass::Horizontal, "blurred half", "ao blur x"),
+                ("blur y (half)", BlurPass::Vertical, "out half", "ao blur y"),
+            ];
+            for (step, blur, target, label) in steps {
+                let mut pass = self.pass(fg, step);
+                pass.input("source", &source);
+                self.common(&mut pass);
+                let target = self.name(target);
+                pass.output("output", &target, TextureDesc::storage(R32).size(half));
+                let key = BlurKey {
+                    pass: blur,
+                    packed: false,
+                    half: true,
+                };
+                pass.dispatch_image(label, key.key(), half);
+                source = target;
+            }
+        }
+        declare_finish(
+            fg,
+            FinishPass {
+                name: PassName::new(self.settings.mode.name()).step("upsample"),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                half: &source,
+                full: &self.output,
+                desc: TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+                    .size(self.gbuffer.size),
+                finish: Finish::Ao {
+                    combine: name_of(&self.combine),
+                },
+                counter: HALF_RESOLUTION,
+                label: "ao upsample",
+            },
+        );
     }
 }

@@ -37,7 +37,7 @@ use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::resolution::{
-    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+    Resolution, ResolvedCell, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
 use crate::shaders::{Permutation, Sampling};
 use crate::temporal::TemporalState;
@@ -73,7 +73,7 @@ impl Default for SsrSettings {
             blend: 0.2,
             thickness: 0.5,
             reset: false,
-            resolution: Resolution::Full,
+            resolution: Resolution::Auto,
         }
     }
 }
@@ -144,6 +144,9 @@ pub struct Ssr {
     /// The persistent history (temporal only).
     pub history: String,
     pub output: String,
+    /// `settings.resolution` as it resolved when the passes were declared
+    /// (Auto by the frame's size: crate::resolution).
+    resolved: ResolvedCell,
 }
 
 /// The near plane of a reversed- or forward-Z perspective projection (0.1 when unknown).
@@ -198,6 +201,7 @@ impl Ssr {
             token: format!("ssr{id}/hiz"),
             current: format!("ssr{id}/current"),
             history: format!("ssr/{key}/history"),
+            resolved: ResolvedCell::default(),
             output: format!("ssr{id}/reflection"),
         })
     }
@@ -232,7 +236,7 @@ impl Ssr {
     fn trace_key(&self, history: bool) -> SsrKey {
         let target = if history {
             SsrTarget::FullTemporal
-        } else if self.settings.resolution.is_half() {
+        } else if self.resolution().is_half() {
             SsrTarget::Half
         } else {
             SsrTarget::Full
@@ -244,6 +248,11 @@ impl Ssr {
             clearcoat: self.materials.any_has(FEATURE_CLEARCOAT),
             target,
         }
+    }
+
+    /// Full or Half: the setting as resolved when the passes were declared.
+    fn resolution(&self) -> Resolution {
+        self.resolved.get()
     }
 
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
@@ -266,7 +275,7 @@ impl Ssr {
     /// Full resolution with temporal accumulation: the trace blends in the
     /// history itself, and there is no resolve pass.
     fn fused(&self) -> bool {
-        self.settings.temporal && !self.settings.resolution.is_half()
+        self.settings.temporal && !self.resolution().is_half()
     }
 
     /// The blend's flags for this frame: bit 0 when the history holds a
@@ -315,7 +324,7 @@ impl Ssr {
             bytemuck::bytes_of(&self.params(frame, flags, max_level)),
         );
         let g = &self.gbuffer;
-        let resolution = self.settings.resolution;
+        let resolution = self.resolution();
         let mut b = Bindings::new()
             .buffer("camera", g.camera_buffer())
             .buffer("params", &self.trace_params)
@@ -362,7 +371,7 @@ impl Ssr {
 
     /// Where the trace writes: the full-size target, or its half-size twin.
     fn trace_target(&self) -> String {
-        written_target(self.full_target(), self.settings.resolution)
+        written_target(self.full_target(), self.resolution())
     }
 
     fn resolve(&self, cx: &mut PassContext<'_>, io: &ResolveIo) -> Result<(), RenderError> {
@@ -443,6 +452,9 @@ impl Recipe for Ssr {
         if !fg.include(self.id) {
             return;
         }
+        let pixels = self.gbuffer.pixel_size(fg.output_size());
+        self.resolved
+            .set(self.settings.resolution.resolve_in(renderer, fg, pixels));
         self.gbuffer.declare(renderer, fg);
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if !self.active() {
@@ -470,7 +482,7 @@ impl Recipe for Ssr {
         if self.settings.temporal && !self.fused() {
             fg.will_dispatch(&plain, "resolve");
         }
-        let resolution = self.settings.resolution;
+        let resolution = self.resolution();
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         // Alike, so the output becomes the history without a copy.
         let rgba = wgpu::TextureFormat::Rgba16Float;
