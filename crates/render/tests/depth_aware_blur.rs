@@ -587,7 +587,12 @@ fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
             2,
         );
         let changed = check(&what, blurred, &expected, &raw.pixels, 1);
-        assert!(changed > 150, "{what}: the blur changed {changed} texels");
+        // Radius 1 is sigma 0.5 pixel: at taps two pixels apart its weight
+        // is e^-8, nothing to see; from 4 on the blur shows.
+        assert!(
+            radius < 4 || changed > 150,
+            "{what}: the blur changed {changed} texels"
+        );
         let sky = depth.pixels.iter().filter(|d| d[0] <= 0.0).count();
         assert!(sky > 100, "{what}: the sky is in the frame ({sky} pixels)");
         check_even_pixels(&what, output, blurred, 4, |t, i| {
@@ -658,7 +663,12 @@ fn the_half_chain_ssgi_blur_is_the_gaussian_at_half_size() {
         }
         let expected = reference_blur_at(&raw.pixels, depth, normals, radius as i32, Values::Light, 2);
         let changed = check(&what, blurred, &expected, &raw.pixels, 4);
-        assert!(changed > 150, "{what}: the blur changed {changed} texels");
+        // Radius 1 is sigma 0.5 pixel: at taps two pixels apart its weight
+        // is e^-8, nothing to see; from 4 on the blur shows.
+        assert!(
+            radius < 4 || changed > 150,
+            "{what}: the blur changed {changed} texels"
+        );
         check_even_pixels(&what, output, blurred, 4, |t, i| {
             if !ambient {
                 return t;

@@ -203,12 +203,13 @@ fn temporal_accumulation_beats_one_frame_of_few_samples() {
 }
 
 /// At full resolution the estimate blends its history in its own pass (no
-/// raw target, no temporal pass); at half resolution the blend follows the
-/// upsample in a pass of its own. Either way a fresh history keeps the
+/// raw target, no temporal pass); at half resolution the blend runs at half
+/// size in a pass of its own (the half chain: `temporal (half)`, before the
+/// half-size blur and the upsample). Either way a fresh history keeps the
 /// estimate: the first frame is the image without accumulation, to the
 /// history's half-float precision.
 #[test]
-fn ao_accumulates_in_the_estimate_at_full_resolution_and_after_the_upsample_at_half() {
+fn ao_accumulates_in_the_estimate_at_full_resolution_and_at_half_size_at_half() {
     for resolution in [Resolution::Full, Resolution::Half] {
         let settings = |temporal_blend| AoSettings {
             temporal_blend,
@@ -224,10 +225,15 @@ fn ao_accumulates_in_the_estimate_at_full_resolution_and_after_the_upsample_at_h
         };
         let (accumulated, image, _) = run(0.9);
         let (alone, reference, _) = run(0.0);
+        let step = if resolution.is_half() {
+            "temporal (half)"
+        } else {
+            "temporal"
+        };
         let temporal_passes = accumulated
             .passes
             .iter()
-            .filter(|p| p.step.as_deref() == Some("temporal"))
+            .filter(|p| p.step.as_deref() == Some(step))
             .count();
         let fused = resolution == Resolution::Full;
         assert_eq!(
