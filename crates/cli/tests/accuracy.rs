@@ -177,7 +177,9 @@ fn ao_every_estimator_setting_is_timed_and_stochastic_converges_as_documented() 
         "--frames",
         "1",
     ]);
-    assert_eq!(rows.len(), 3 * 2 * 2 * 2);
+    // Three AO estimators and SSGI (its gathered share against the same reference).
+    assert_eq!(rows.len(), 4 * 2 * 2 * 2);
+    assert_eq!(rows.iter().filter(|r| r["effect"] == "ssgi").count(), 2 * 2 * 2);
     let at = |mode: &str, samples: u32, temporal: bool, resolution: &str| {
         row(
             &rows,
@@ -189,7 +191,7 @@ fn ao_every_estimator_setting_is_timed_and_stochastic_converges_as_documented() 
             ],
         )
     };
-    for mode in ["Stochastic", "SAO", "HBAO"] {
+    for mode in ["Stochastic", "SAO", "HBAO", "SSGI"] {
         for samples in [2, 16] {
             for temporal in [false, true] {
                 for resolution in ["Full", "Half"] {

@@ -49,7 +49,7 @@ pub static RESOLUTIONS: Choices<Resolution> =
 
 /// DOF's options: Full and Half (its Half measured slower, so no Auto).
 pub static FULL_HALF: Choices<Resolution> = Choices::new(
-    "Resolution (Full, Half)",
+    "DOF Resolution",
     &["Full", "Half"],
     &Resolution::RESOLVED,
 );

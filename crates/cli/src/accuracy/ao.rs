@@ -12,6 +12,13 @@
 //! surface, whose pass is timed with the AO's; gbuffer: depth and normals a
 //! tap, the exact way), so the table shows what the packed surface saves and
 //! what its 16-bit normal costs.
+//!
+//! SSGI is measured in the same table (estimator `SSGI`): over a lit image
+//! of uniform white, with no ambient, its bounce is the share of its rays
+//! that hit something within the radius, so 1 minus it is its visibility,
+//! held against the same ray-cast reference. Its rows show what SSGI's
+//! resolutions (the half chain: gather, temporal blend and blur at half
+//! size, one upsample) cost in error.
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -22,6 +29,8 @@ use spreadlight_reference::shadows::Sphere;
 use spreadlight_reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::lighting::{Ssgi, SsgiSettings};
+use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::packed_surface::{PASS_STEP, Reader, SurfaceInputs, set_inputs};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::resolution::Resolution;
@@ -80,9 +89,35 @@ fn camera(size: (u32, u32)) -> CameraInput {
     super::camera_looking(Vec3::new(0.0, 3.5, 6.0), Vec3::new(0.0, 0.6, 0.0), size)
 }
 
+/// What a row measures: an AO estimator, or SSGI's gathered share.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Estimator {
+    Ao(AoMode),
+    Ssgi,
+}
+
+impl Estimator {
+    fn name(self) -> &'static str {
+        match self {
+            Estimator::Ao(mode) => mode_name(mode),
+            Estimator::Ssgi => "SSGI",
+        }
+    }
+
+    /// The pass name every pass of the effect has.
+    fn kind(self) -> &'static str {
+        match self {
+            Estimator::Ao(AoMode::Stochastic) => "SSAO",
+            Estimator::Ao(AoMode::Sao) => "SAO",
+            Estimator::Ao(AoMode::Hbao) => "HBAO",
+            Estimator::Ssgi => "SSGI",
+        }
+    }
+}
+
 /// One measured setting.
 struct Row {
-    mode: AoMode,
+    mode: Estimator,
     samples: u32,
     temporal: bool,
     resolution: Resolution,
@@ -110,6 +145,60 @@ fn mode_name(mode: AoMode) -> &'static str {
         AoMode::Stochastic => "Stochastic",
         AoMode::Sao => "SAO",
         AoMode::Hbao => "HBAO",
+    }
+}
+
+/// SSGI's settings for an AO row's: the same radius, samples (32 at
+/// most), steps, temporal blend, blur and resolution.
+fn ssgi_settings(s: AoSettings) -> SsgiSettings {
+    SsgiSettings {
+        radius: s.radius,
+        samples: s.samples.min(32),
+        steps: s.steps,
+        intensity: 1.0,
+        temporal_blend: s.temporal_blend,
+        blur_radius: s.blur_radius,
+        reset: s.reset,
+        resolution: s.resolution,
+    }
+}
+
+/// A white image to light SSGI's rays: its bounce is then the share of
+/// rays that hit.
+fn white(renderer: &Renderer, size: (u32, u32)) -> Arc<StaticTexture> {
+    let pixels = vec![[1.0, 1.0, 1.0, 1.0]; (size.0 * size.1) as usize];
+    StaticTexture::from_rgba32f(&renderer.gpu, size.0, size.1, &pixels, "white")
+}
+
+/// A frame of `estimator`: the recipe and its output's name. SSGI reads
+/// `white`, a texture of the frame's size.
+fn effect(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    size: (u32, u32),
+    estimator: Estimator,
+    settings: AoSettings,
+    owner: u32,
+    white: &Arc<StaticTexture>,
+) -> (Arc<GBuffer>, Arc<dyn Recipe>, String) {
+    let (g, ao) = frame(renderer, layer, size, settings, owner);
+    match estimator {
+        Estimator::Ao(_) => {
+            let output = ao.output.clone();
+            (g, ao, output)
+        }
+        Estimator::Ssgi => {
+            let gi = Ssgi::new(
+                renderer,
+                Some(owner),
+                g.clone(),
+                white.texture_ref(),
+                None,
+                ssgi_settings(settings),
+            );
+            let output = gi.output.clone();
+            (g, gi, output)
+        }
     }
 }
 
@@ -144,21 +233,46 @@ fn measure(
     frames: usize,
     owner: u32,
 ) -> anyhow::Result<(ImageF32, ImageF32)> {
+    let mode = Estimator::Ao(settings.mode);
+    measure_estimator(renderer, layer, size, mode, settings, frames, owner, None)
+}
+
+/// [`measure`] of any estimator; SSGI's visibility is 1 minus its bounce
+/// under `white` (needed for SSGI).
+#[allow(clippy::too_many_arguments)]
+fn measure_estimator(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    size: (u32, u32),
+    estimator: Estimator,
+    settings: AoSettings,
+    frames: usize,
+    owner: u32,
+    white: Option<&Arc<StaticTexture>>,
+) -> anyhow::Result<(ImageF32, ImageF32)> {
+    let white = match white {
+        Some(w) => w.clone(),
+        None => self::white(renderer, (1, 1)),
+    };
     let mut last = None;
     for _ in 0..frames.max(1) {
-        let (g, ao) = frame(renderer, layer, size, settings, owner);
+        let (g, recipe, output) =
+            effect(renderer, layer, size, estimator, settings, owner, &white);
         let (report, images) =
-            render_and_read(renderer, ao.as_ref(), size, &[&ao.output, &g.targets.depth])?;
+            render_and_read(renderer, recipe.as_ref(), size, &[&output, &g.targets.depth])?;
         if let Some((_, e)) = report.errors.first() {
             anyhow::bail!("the frame failed: {e}");
         }
         last = Some(images);
     }
     let mut images = last.context("no frame")?.into_iter();
-    Ok((
-        images.next().context("ao")?,
-        images.next().context("depth")?,
-    ))
+    let mut ao = images.next().context("ao")?;
+    if estimator == Estimator::Ssgi {
+        for p in &mut ao.pixels {
+            *p = [1.0 - p[0].clamp(0.0, 1.0); 4];
+        }
+    }
+    Ok((ao, images.next().context("depth")?))
 }
 
 /// Median GPU time of the AO passes, frames back to back (no readback between them).
@@ -166,27 +280,25 @@ fn time(
     renderer: &Renderer,
     layer: &Arc<Layer>,
     args: &AoArgs,
-    settings: AoSettings,
+    (estimator, settings): (Estimator, AoSettings),
     owner: u32,
+    white: &Arc<StaticTexture>,
 ) -> anyhow::Result<Option<f64>> {
     let mut times = Vec::new();
     for k in 0..args.common.warmup + args.common.frames.max(1) {
-        let (g, ao) = frame(renderer, layer, args.common.time_size, settings, owner);
+        let size = args.common.time_size;
+        let (g, recipe, output) = effect(renderer, layer, size, estimator, settings, owner, white);
         let mut graph = FrameGraph::new(args.common.time_size);
-        ao.declare(renderer, &mut graph);
-        graph.request(&ao.output);
+        recipe.declare(renderer, &mut graph);
+        graph.request(&output);
         let (report, _) = graph.execute(renderer)?;
         if let Some((_, e)) = report.errors.first() {
             anyhow::bail!("the frame failed: {e}");
         }
         drop(g);
         if k >= args.common.warmup {
-            // Every AO pass is of its estimator's kind ("SSAO", "SAO", "HBAO").
-            let kind = match settings.mode {
-                AoMode::Stochastic => "SSAO",
-                AoMode::Sao => "SAO",
-                AoMode::Hbao => "HBAO",
-            };
+            // Every pass is of its estimator's kind ("SSAO", "SAO", "HBAO", "SSGI").
+            let kind = estimator.kind();
             // The packed surface's pass serves every blur of a frame; here it
             // is this AO's alone, so its time is the AO's.
             let packed = pass_ms(&report, "MRE", Some(PASS_STEP)).unwrap_or(0.0);
@@ -257,7 +369,14 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         &truth,
         args.error_size,
     );
-    let modes = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
+    let modes = [
+        Estimator::Ao(AoMode::Stochastic),
+        Estimator::Ao(AoMode::Sao),
+        Estimator::Ao(AoMode::Hbao),
+        Estimator::Ssgi,
+    ];
+    let white_error = white(&renderer, args.error_size);
+    let white_time = white(&renderer, args.common.time_size);
     let total =
         modes.len() * args.samples.len() * 2 * args.resolutions.len() * args.surface_inputs.len();
     let mut rows = Vec::new();
@@ -275,18 +394,31 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                 eprintln!(
                     "[{}/{total}] {} {samples}{} {resolution} {}",
                     rows.len() + 1,
-                    mode_name(mode),
+                    mode.name(),
                     if temporal { " temporal" } else { "" },
                     inputs.name()
                 );
                 set_inputs(&renderer, Reader::Blurs, inputs);
                 set_inputs(&renderer, Reader::Rays, inputs);
+                let ao_mode = match mode {
+                    Estimator::Ao(m) => m,
+                    Estimator::Ssgi => AoMode::Stochastic,
+                };
                 let s = AoSettings {
                     resolution,
-                    ..settings(mode, samples, temporal, args.radius)
+                    ..settings(ao_mode, samples, temporal, args.radius)
                 };
                 let frames = if temporal { args.settle } else { 1 };
-                let (ao, _) = measure(&renderer, &layer, args.error_size, s, frames, owner)?;
+                let (ao, _) = measure_estimator(
+                    &renderer,
+                    &layer,
+                    args.error_size,
+                    mode,
+                    s,
+                    frames,
+                    owner,
+                    Some(&white_error),
+                )?;
                 let error = error(&ao, &truth, args.error_size);
                 if let Some(dir) = &images {
                     let values: Vec<Option<f32>> = ao
@@ -299,7 +431,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                     // there was a choice.
                     let name = format!(
                         "{} {samples}{} {resolution}{}",
-                        mode_name(mode),
+                        mode.name(),
                         if temporal { " temporal" } else { "" },
                         match inputs {
                             SurfaceInputs::GBuffer => String::new(),
@@ -308,7 +440,14 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                     );
                     super::write_grey(dir, &name, &values, args.error_size)?;
                 }
-                let ms = time(&renderer, &layer, args, s, owner + 10_000)?;
+                let ms = time(
+                    &renderer,
+                    &layer,
+                    args,
+                    (mode, s),
+                    owner + 10_000,
+                    &white_time,
+                )?;
                 rows.push(Row {
                     mode,
                     samples,
@@ -328,7 +467,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
             println!(
                 "{}",
                 serde_json::json!({
-                    "effect": "ao", "mode": mode_name(r.mode), "samples": r.samples, "temporal": r.temporal,
+                    "effect": if r.mode == Estimator::Ssgi { "ssgi" } else { "ao" }, "mode": r.mode.name(), "samples": r.samples, "temporal": r.temporal,
                     "resolution": r.resolution.name(), "surface_inputs": r.inputs.name(),
                     "adapter": adapter, "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
                     "ms": r.ms, "rmse": r.error.rmse, "ssim": r.error.ssim,
@@ -342,7 +481,9 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         "Ambient occlusion on {adapter}: GPU ms of all AO passes at {tw}x{th} (median of {} frames after {}, back to back), \
          error at {ew}x{eh} against ray-cast AO ({} cosine-weighted rays per pixel, radius {}): RMSE and SSIM of visibility \
          over the pixels with geometry. Steps 8, blur radius 4; temporal: blend 0.9, error after {} frames of a still \
-         camera. Resolution Half: the raw estimate for one pixel in four, upsampled with depth awareness. \
+         camera. Resolution Half: the half chain (the raw estimate for one pixel in four, the temporal blend and the \
+         blur at half size too, one depth-aware upsample at the end). SSGI: 1 minus its bounce over a white image (the \
+         share of its rays that hit), against the same reference, its time all of its passes. \
          Surface packed: the blurs and rays read the packed surface (its pass timed with the AO's); gbuffer: \
          depth and normals a tap. No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
          | estimator | samples | temporal | resolution | surface | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|---|---|\n",
@@ -357,7 +498,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
     for r in &rows {
         table.push_str(&format!(
             "| {} | {} | {} | {} | {} | {} | {:.4} | {:.4} |\n",
-            mode_name(r.mode),
+            r.mode.name(),
             r.samples,
             if r.temporal { "on" } else { "off" },
             r.resolution,
@@ -375,7 +516,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
             Series::group(rows.iter().map(|r| {
                 let name = format!(
                     "{}{}{}{}",
-                    mode_name(r.mode),
+                    r.mode.name(),
                     if r.temporal { " temporal" } else { "" },
                     if r.resolution.is_half() { " half" } else { "" },
                     if r.inputs == SurfaceInputs::GBuffer {

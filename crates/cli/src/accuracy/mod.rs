@@ -206,12 +206,12 @@ pub(crate) fn median(mut v: Vec<f64>) -> Option<f64> {
     Some(v[v.len() / 2])
 }
 
-/// A `--resolutions` value: Full or Half (any case).
+/// A `--resolutions` value: Full, Half or Auto (any case; Auto resolves by the size measured).
 pub(crate) fn parse_resolution(
     s: &str,
 ) -> Result<spreadlight_render::resolution::Resolution, String> {
     spreadlight_render::resolution::Resolution::parse(s)
-        .ok_or_else(|| format!("`{s}` is not a resolution: full or half"))
+        .ok_or_else(|| format!("`{s}` is not a resolution: full, half or auto"))
 }
 
 pub(crate) fn ms(v: Option<f64>) -> String {
