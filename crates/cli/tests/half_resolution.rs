@@ -129,7 +129,11 @@ fn the_auto_variable_forces_what_auto_resolves_to() {
         );
         let passes = pass_names(&json);
         for (node, what) in effects {
-            assert_eq!(has(&passes, node, what), half, "{value:?}: {node} {what} in {passes:?}");
+            assert_eq!(
+                has(&passes, node, what),
+                half,
+                "{value:?}: {node} {what} in {passes:?}"
+            );
         }
         for node in ["SSAO #52", "HBAO #53", "SSGI #57"] {
             assert_eq!(
@@ -147,10 +151,21 @@ fn the_auto_variable_forces_what_auto_resolves_to() {
         assert_eq!(counts["DOF"], 0, "{value:?}: {counts}");
     }
     // A value the variable does not take is an error naming it.
-    let o = command(&["bench", "patches/post.ron", "--size", "48x27", "--frames", "1"])
-        .env("SPREADLIGHT_RESOLUTION_AUTO", "quarter")
-        .output()
-        .expect("runs");
+    let o = command(&[
+        "bench",
+        "patches/post.ron",
+        "--size",
+        "48x27",
+        "--frames",
+        "1",
+    ])
+    .env("SPREADLIGHT_RESOLUTION_AUTO", "quarter")
+    .output()
+    .expect("runs");
     assert_ne!(o.status.code(), Some(0));
-    assert!(text(&o.stderr).contains("SPREADLIGHT_RESOLUTION_AUTO"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("SPREADLIGHT_RESOLUTION_AUTO"),
+        "{}",
+        text(&o.stderr)
+    );
 }

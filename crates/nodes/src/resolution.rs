@@ -48,11 +48,8 @@ pub static RESOLUTIONS: Choices<Resolution> =
     Choices::new("Resolution", &Resolution::NAMES, &Resolution::ALL);
 
 /// DOF's options: Full and Half (its Half measured slower, so no Auto).
-pub static FULL_HALF: Choices<Resolution> = Choices::new(
-    "DOF Resolution",
-    &["Full", "Half"],
-    &Resolution::RESOLVED,
-);
+pub static FULL_HALF: Choices<Resolution> =
+    Choices::new("DOF Resolution", &["Full", "Half"], &Resolution::RESOLVED);
 
 /// The pin's line in the node's help, for a node that declares the pin with
 /// [`input`].

@@ -112,10 +112,22 @@ impl Resolution {
     /// [`Resolution::resolve`] for an effect declaring its passes into
     /// `fg`, counting what Auto resolved to ([`AUTO_HALF`], [`AUTO_FULL`]),
     /// so `stats` and `bench --json` say it.
-    pub fn resolve_in(self, renderer: &Renderer, fg: &mut FrameGraph<'_>, pixels: (u32, u32)) -> Resolution {
+    pub fn resolve_in(
+        self,
+        renderer: &Renderer,
+        fg: &mut FrameGraph<'_>,
+        pixels: (u32, u32),
+    ) -> Resolution {
         let resolved = self.resolve(renderer, pixels);
         if self == Resolution::Auto {
-            fg.count(if resolved.is_half() { AUTO_HALF } else { AUTO_FULL }, 1);
+            fg.count(
+                if resolved.is_half() {
+                    AUTO_HALF
+                } else {
+                    AUTO_FULL
+                },
+                1,
+            );
         }
         resolved
     }
@@ -276,7 +288,8 @@ pub struct ResolvedCell(AtomicU8);
 
 impl ResolvedCell {
     pub fn set(&self, resolution: Resolution) {
-        self.0.store(u8::from(resolution.is_half()), Ordering::Relaxed);
+        self.0
+            .store(u8::from(resolution.is_half()), Ordering::Relaxed);
     }
 
     /// Full until first set.

@@ -484,7 +484,10 @@ fn assert_half_passes(report: &FrameReport, what: &str) {
     }
     for step in ["blur x", "blur y"] {
         assert!(
-            !report.passes.iter().any(|p| p.step.as_deref() == Some(step)),
+            !report
+                .passes
+                .iter()
+                .any(|p| p.step.as_deref() == Some(step)),
             "{what}: no full-size {step} in {:?}",
             steps(report)
         );
@@ -574,7 +577,10 @@ fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
         assert_half_passes(&report, &what);
         let (raw, blurred, output) = (&images[0], &images[1], &images[2]);
         let (depth, normals) = (&images[3], &images[4]);
-        assert_eq!((raw.width, raw.height), (SIZE.0.div_ceil(2), SIZE.1.div_ceil(2)));
+        assert_eq!(
+            (raw.width, raw.height),
+            (SIZE.0.div_ceil(2), SIZE.1.div_ceil(2))
+        );
         for image in [raw, blurred, output] {
             assert!(image.all_finite(), "{what}");
         }
@@ -596,7 +602,9 @@ fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
         let sky = depth.pixels.iter().filter(|d| d[0] <= 0.0).count();
         assert!(sky > 100, "{what}: the sky is in the frame ({sky} pixels)");
         check_even_pixels(&what, output, blurred, 4, |t, i| {
-            let other = images.get(5).map_or(1.0, |o| o.pixels[i][0].clamp(0.0, 1.0));
+            let other = images
+                .get(5)
+                .map_or(1.0, |o| o.pixels[i][0].clamp(0.0, 1.0));
             let v = t[0].clamp(0.0, 1.0) * other;
             // The sky: nothing occludes it (visibility 1, times the other AO).
             let v = if depth.pixels[i][0] <= 0.0 { other } else { v };
@@ -661,7 +669,8 @@ fn the_half_chain_ssgi_blur_is_the_gaussian_at_half_size() {
         for image in [raw, blurred, output] {
             assert!(image.all_finite(), "{what}");
         }
-        let expected = reference_blur_at(&raw.pixels, depth, normals, radius as i32, Values::Light, 2);
+        let expected =
+            reference_blur_at(&raw.pixels, depth, normals, radius as i32, Values::Light, 2);
         let changed = check(&what, blurred, &expected, &raw.pixels, 4);
         // Radius 1 is sigma 0.5 pixel: at taps two pixels apart its weight
         // is e^-8, nothing to see; from 4 on the blur shows.

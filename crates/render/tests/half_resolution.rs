@@ -568,7 +568,11 @@ fn auto_is_half_from_1080p_on_and_the_choice_forces_it() {
         ((SIZE.0, SIZE.1), None),
     ] {
         set_auto_choice(&renderer, AutoChoice::Size);
-        assert_eq!(planned_half(&renderer, &ao, &gi, size), [want; 2], "{size:?}");
+        assert_eq!(
+            planned_half(&renderer, &ao, &gi, size),
+            [want; 2],
+            "{size:?}"
+        );
     }
     set_auto_choice(&renderer, AutoChoice::Full);
     assert_eq!(planned_half(&renderer, &ao, &gi, (3840, 2160)), [None; 2]);
@@ -646,8 +650,19 @@ fn the_half_chains_accumulate_at_half_size_and_stay_finite() {
         ..Default::default()
     };
     let mut frames = Vec::new();
-    for resolution in [Resolution::Half, Resolution::Half, Resolution::Half, Resolution::Full] {
-        let ao = AmbientOcclusion::new(&renderer, Some(21), g.clone(), ao_settings(resolution), None);
+    for resolution in [
+        Resolution::Half,
+        Resolution::Half,
+        Resolution::Half,
+        Resolution::Full,
+    ] {
+        let ao = AmbientOcclusion::new(
+            &renderer,
+            Some(21),
+            g.clone(),
+            ao_settings(resolution),
+            None,
+        );
         let gi = Ssgi::new(
             &renderer,
             Some(22),

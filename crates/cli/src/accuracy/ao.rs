@@ -30,12 +30,12 @@ use spreadlight_reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
-use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::packed_surface::{PASS_STEP, Reader, SurfaceInputs, set_inputs};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
+use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};
@@ -256,10 +256,13 @@ fn measure_estimator(
     };
     let mut last = None;
     for _ in 0..frames.max(1) {
-        let (g, recipe, output) =
-            effect(renderer, layer, size, estimator, settings, owner, &white);
-        let (report, images) =
-            render_and_read(renderer, recipe.as_ref(), size, &[&output, &g.targets.depth])?;
+        let (g, recipe, output) = effect(renderer, layer, size, estimator, settings, owner, &white);
+        let (report, images) = render_and_read(
+            renderer,
+            recipe.as_ref(),
+            size,
+            &[&output, &g.targets.depth],
+        )?;
         if let Some((_, e)) = report.errors.first() {
             anyhow::bail!("the frame failed: {e}");
         }

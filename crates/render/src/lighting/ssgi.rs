@@ -455,7 +455,12 @@ impl Ssgi {
     /// The half chain's blur (x then y at half size, from the G-buffer: the
     /// packed surface is full size) of `source`, then the upsample that
     /// writes the output and adds the ambient ([`Finish::Light`]).
-    fn declare_half_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, half: SizeRule) {
+    fn declare_half_blur<'a>(
+        &'a self,
+        fg: &mut FrameGraph<'a>,
+        mut source: String,
+        half: SizeRule,
+    ) {
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(half);
         if self.settings.blur_radius > 0 && !self.off() {
             let key = SsgiKey::Blur {
@@ -514,7 +519,8 @@ impl Recipe for Ssgi {
         let resolution = self.settings.resolution.resolve_in(renderer, fg, pixels);
         let source = if self.fused(resolution) {
             let mut pass = fg.pass(PassName::new("SSGI").step("gather"), self.owner);
-            let (mut io, t) = self.declare_temporal(&mut pass, &self.source.name, self.gbuffer.size);
+            let (mut io, t) =
+                self.declare_temporal(&mut pass, &self.source.name, self.gbuffer.size);
             io.view_z = view_z.as_deref().map(|v| pass.read(v));
             let key = SsgiKey::Temporal {
                 gather: true,

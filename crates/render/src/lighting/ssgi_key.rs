@@ -13,9 +13,20 @@ use crate::shaders::permutation::Permutation;
 /// the ambient nor reads the packed surface: the upsample after it adds it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SsgiKey {
-    Gather { half: bool, packed: bool },
-    Temporal { gather: bool, packed: bool, half: bool },
-    Blur { ambient: bool, packed: bool, half: bool },
+    Gather {
+        half: bool,
+        packed: bool,
+    },
+    Temporal {
+        gather: bool,
+        packed: bool,
+        half: bool,
+    },
+    Blur {
+        ambient: bool,
+        packed: bool,
+        half: bool,
+    },
 }
 
 impl Permutation for SsgiKey {

@@ -30,13 +30,13 @@ use std::sync::Arc;
 
 use crate::error::RenderError;
 use crate::finite::finite_in;
+use crate::frame_graph::SizeRule;
 use crate::frame_graph::{Bindings, FrameGraph, History, PassBuilder, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::packed_surface::{self, Reader, SurfaceInputs};
 use crate::recipe::{Recipe, TextureRef, declare_inputs, name_of, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::frame_graph::SizeRule;
 use crate::resolution::{Finish, FinishPass, Resolution, declare_finish, written_target};
 use crate::shaders::Permutation;
 use crate::temporal::{RayParams, RayUniforms};
@@ -425,7 +425,12 @@ impl AmbientOcclusion {
     /// grey RGBA output and multiplies `combine` in
     /// (resolution/upsample.wgsl's AO / AO_COMBINE). The blurs read the
     /// G-buffer, never the packed surface (which is full size).
-    fn declare_half_chain<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, half: SizeRule) {
+    fn declare_half_chain<'a>(
+        &'a self,
+        fg: &mut FrameGraph<'a>,
+        mut source: String,
+        half: SizeRule,
+    ) {
         if self.temporal() {
             let mut pass = self.pass(fg, "temporal (half)");
             pass.input("raw", &source);
@@ -445,7 +450,12 @@ impl AmbientOcclusion {
         }
         if self.settings.blur_radius > 0 && !self.off() {
             let steps = [
-                ("blur x (half)", BlurPass::Horizontal, "blurred half", "ao blur x"),
+                (
+                    "blur x (half)",
+                    BlurPass::Horizontal,
+                    "blurred half",
+                    "ao blur x",
+                ),
                 ("blur y (half)", BlurPass::Vertical, "out half", "ao blur y"),
             ];
             for (step, blur, target, label) in steps {
