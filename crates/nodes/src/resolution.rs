@@ -74,3 +74,40 @@ pub fn with_full_half_help(mut def: NodeDef) -> NodeDef {
 pub fn input_full_half(p: &mut Pins<'_>) -> In<Choice<Resolution>> {
     p.input_choice("Resolution", &FULL_HALF, Resolution::Full)
 }
+
+#[cfg(test)]
+mod tests {
+    use spreadlight_graph::{PinType, Spread};
+
+    /// The pins' options and defaults: Auto first and the default on the
+    /// effects that offer it (an old patch's Full or Half is still an
+    /// option), Full and Half on DOF's, default Full.
+    #[test]
+    fn auto_is_the_default_of_every_resolution_pin_but_dofs() {
+        let registry = crate::registry();
+        for node in ["SSAO", "HBAO", "SSGI", "SSR", "DOF"] {
+            let def = registry
+                .get(node)
+                .unwrap_or_else(|| panic!("{node} is registered"));
+            let pin = def
+                .inputs
+                .iter()
+                .find(|p| &*p.name == "Resolution")
+                .unwrap_or_else(|| panic!("{node} has a Resolution pin"));
+            let PinType::Enum(choices) = pin.ty else {
+                panic!("{node}'s Resolution is a choice");
+            };
+            let (options, default): (&[&str], _) = if node == "DOF" {
+                (&["Full", "Half"], "Full")
+            } else {
+                (&["Auto", "Full", "Half"], "Auto")
+            };
+            assert_eq!(choices.options, options, "{node}");
+            assert_eq!(
+                pin.default,
+                Spread::Enum(vec![default.to_owned()]),
+                "{node}"
+            );
+        }
+    }
+}
