@@ -204,7 +204,12 @@ fn every_layer_rasterized_together_holds_the_depth_each_alone_gives() {
         (
             "8 spots",
             LightBuffer::spots(&renderer, &spots, None).expect("valid"),
-            ShadowLights::Spot(spots.iter().map(|s| (s.shadow.unwrap_or(0), s.view, s.projection)).collect()),
+            ShadowLights::Spot(
+                spots
+                    .iter()
+                    .map(|s| (s.shadow.unwrap_or(0), s.view, s.projection))
+                    .collect(),
+            ),
             8,
         ),
         (
@@ -228,7 +233,14 @@ fn every_layer_rasterized_together_holds_the_depth_each_alone_gives() {
             for way in [ShadowLayers::Each, ShadowLayers::Together] {
                 owner += 1;
                 let run = frame(
-                    &renderer, way, owner, &casting, &lights, &casters, camera(0.0), filter,
+                    &renderer,
+                    way,
+                    owner,
+                    &casting,
+                    &lights,
+                    &casters,
+                    camera(0.0),
+                    filter,
                 );
                 let together = if way == ShadowLayers::Together {
                     (layers, 1)
@@ -267,7 +279,10 @@ fn scrolled_strips_rasterized_together_hold_the_depth_each_alone_gives() {
         bleeding: 0.2,
         blur: 1,
     };
-    for (filter, owners) in [(ShadowFilter::Pcf { kernel: 3 }, (200, 201)), (vsm, (202, 203))] {
+    for (filter, owners) in [
+        (ShadowFilter::Pcf { kernel: 3 }, (200, 201)),
+        (vsm, (202, 203)),
+    ] {
         let mut scrolled = 0;
         for k in 0..4 {
             let view = camera(k as f32 * 0.15);
@@ -386,7 +401,10 @@ fn a_still_cache_and_moving_casters_over_it_hold_the_same_depth_together() {
         }
         chains += runs[1].1.counter(CHAINS);
         assert_same_depth(&runs[0].2, &runs[1].2, &what);
-        assert!(runs[0].0.pixels == runs[1].0.pixels, "{what}: the same image");
+        assert!(
+            runs[0].0.pixels == runs[1].0.pixels,
+            "{what}: the same image"
+        );
     }
     // The frame that caches the still casters draws two chains (the cache,
     // then the moving ball over it).

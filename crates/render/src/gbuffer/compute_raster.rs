@@ -646,6 +646,26 @@ mod tests {
         assert_eq!(tile_workgroups(AdapterClass::Cpu, usize::MAX), 64);
     }
 
+    /// The layered raster (shadow maps' layers in one chain) composes and
+    /// validates with every other switch, as the single-view one does.
+    #[test]
+    fn every_raster_permutation_composes_layered_or_not() {
+        let mut composer = crate::shaders::ShaderComposer::new().expect("libraries compose");
+        let all = RasterKey::all();
+        assert_eq!(all.len(), 16);
+        for key in all {
+            let module = composer
+                .compose(&key.key())
+                .unwrap_or_else(|e| panic!("{key:?}: {e}"));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{key:?}: {e}"));
+        }
+    }
+
     #[test]
     fn a_cpu_adapter_fetches_positions_alone_where_no_draw_is_a_particle_system() {
         for two_sided in [false, true] {

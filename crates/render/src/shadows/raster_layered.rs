@@ -51,9 +51,7 @@ struct Part {
 /// The parts' table and the workgroups covering them all: each part's
 /// workgroups follow the last's, `rect`'s size in 8x8 workgroups; `second`
 /// gives each part's second word (its first word, or its blur).
-fn parts_table(
-    parts: impl Iterator<Item = (u32, Rect, u32)>,
-) -> (Vec<GpuPart>, u32) {
+fn parts_table(parts: impl Iterator<Item = (u32, Rect, u32)>) -> (Vec<GpuPart>, u32) {
     let mut groups = 0u32;
     let table = parts
         .map(|(layer, rect, second)| {
