@@ -48,14 +48,22 @@ struct TileEntry {
 @group(0) @binding(8) var<storage, read> cameras: array<Camera>;
 // Where each layer's words start in `visibility`.
 @group(0) @binding(9) var<storage, read> layer_words: array<u32>;
+// What the rasterizer reads of a camera: a layer's copy is these 36 floats
+// (the whole `Camera` is 104), under the name the single view's uniform has.
+struct LayerCamera {
+    view: mat4x4<f32>,
+    view_projection: mat4x4<f32>,
+    size: vec4<f32>,
+}
+
 // The layer a thread rasterizes for: its camera, its first word, its index.
-var<private> camera: Camera;
+var<private> camera: LayerCamera;
 var<private> first_word: u32;
 var<private> layer: u32;
 
 fn enter_layer(index: u32) {
     layer = index;
-    camera = cameras[index];
+    camera = LayerCamera(cameras[index].view, cameras[index].view_projection, cameras[index].size);
     first_word = layer_words[index];
 }
 #else
