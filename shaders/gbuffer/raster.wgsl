@@ -15,6 +15,14 @@
 // reversed-Z depth's bits (the same as atomicMin on conventional depth:
 // non-negative floats order as their bits do). Half the bytes of the 64-bit
 // words, and any adapter has 32-bit atomics (no SHADER_INT64 needed).
+//
+// LAYERED (shadow maps, SPREADLIGHT_SHADOW_LAYERS=together): every layer of
+// a map (cascades, spots, a point light's faces, a scrolled cascade's
+// strips) in one chain: the layer is the triangle kernel's workgroup_id.z,
+// each layer's camera and first word come from `cameras` and `layer_words`,
+// and all layers' big triangles share one tile list (an entry names its
+// layer). Each layer's words get the same atomics as a raster of that layer
+// alone, so the depth is the same bit for bit.
 #import spreadlight::camera::Camera
 #import spreadlight::mesh_fetch::{instances, mesh_position, triangle_vertex, view_right, view_up}
 
@@ -26,7 +34,9 @@ struct Batch {
     first_global: u32,
 }
 
-// A tile of a big triangle: instance, triangle, global id, tile x | tile y << 16.
+// A tile of a big triangle: instance, triangle, global id, tile x | tile y << 16
+// (LAYERED: tile x | tile y << 8 | layer << 16; a shadow map's side, at
+// most 8192 texels, is at most 256 tiles).
 struct TileEntry {
     instance: u32,
     triangle: u32,
@@ -34,7 +44,31 @@ struct TileEntry {
     tile: u32,
 }
 
+#ifdef LAYERED
+@group(0) @binding(8) var<storage, read> cameras: array<Camera>;
+// Where each layer's words start in `visibility`.
+@group(0) @binding(9) var<storage, read> layer_words: array<u32>;
+// What the rasterizer reads of a camera: a layer's copy is these 36 floats
+// (the whole `Camera` is 104), under the name the single view's uniform has.
+struct LayerCamera {
+    view: mat4x4<f32>,
+    view_projection: mat4x4<f32>,
+    size: vec4<f32>,
+}
+
+// The layer a thread rasterizes for: its camera, its first word, its index.
+var<private> camera: LayerCamera;
+var<private> first_word: u32;
+var<private> layer: u32;
+
+fn enter_layer(index: u32) {
+    layer = index;
+    camera = LayerCamera(cameras[index].view, cameras[index].view_projection, cameras[index].size);
+    first_word = layer_words[index];
+}
+#else
 @group(0) @binding(0) var<uniform> camera: Camera;
+#endif
 #ifdef DEPTH_ONLY
 @group(0) @binding(4) var<storage, read_write> visibility: array<atomic<u32>>;
 #else
@@ -183,11 +217,16 @@ fn shade(x: u32, y: u32, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, id: u32) {
         return;
     }
     let width = u32(camera.size.x);
+#ifdef LAYERED
+    let word = first_word + y * width + x;
+#else
+    let word = y * width + x;
+#endif
 #ifdef DEPTH_ONLY
     // Without the sign bit: -0.0 is the far plane, not the nearest depth.
-    atomicMax(&visibility[y * width + x], bitcast<u32>(depth) & 0x7fffffffu);
+    atomicMax(&visibility[word], bitcast<u32>(depth) & 0x7fffffffu);
 #else
-    atomicMax(&visibility[y * width + x], pack(depth, id));
+    atomicMax(&visibility[word], pack(depth, id));
 #endif
 }
 
@@ -214,6 +253,9 @@ fn pixel_bounds(s: Setup) -> array<vec2<u32>, 2> {
 
 @compute @workgroup_size(64)
 fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+#ifdef LAYERED
+    enter_layer(gid.z);
+#endif
     let thread = gid.x + gid.y * groups.x * 64u;
     if (thread >= batch.triangles * batch.instance_count) {
         return;
@@ -243,7 +285,7 @@ fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     if (count > GIANT_TILES) {
         let giant = atomicAdd(&tile_count[2], 1u);
         if (giant < GIANTS && giant < capacity) {
-            tiles[capacity - 1u - giant] = TileEntry(instance, triangle, id, 0u);
+            tiles[capacity - 1u - giant] = TileEntry(instance, triangle, id, tile_word(vec2<u32>(0u)));
             return;
         }
     }
@@ -251,7 +293,7 @@ fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     let first = atomicAdd(&tile_count[0], count);
     for (var k = 0u; k < count && first + k < entries; k++) {
         let t = tile_at(span, k);
-        tiles[first + k] = TileEntry(instance, triangle, id, t.x | (t.y << 16u));
+        tiles[first + k] = TileEntry(instance, triangle, id, tile_word(t));
     }
 }
 
@@ -260,6 +302,25 @@ fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
 fn tile_span(bounds: array<vec2<u32>, 2>) -> array<vec2<u32>, 2> {
     let first = bounds[0] / TILE;
     return array<vec2<u32>, 2>(first, (bounds[1] + TILE - 1u) / TILE - first);
+}
+
+// A tile entry's `tile` word (and, LAYERED, its layer).
+fn tile_word(t: vec2<u32>) -> u32 {
+#ifdef LAYERED
+    return t.x | (t.y << 8u) | (layer << 16u);
+#else
+    return t.x | (t.y << 16u);
+#endif
+}
+
+// The tile a `tile_word` names (LAYERED: entering its layer too).
+fn entry_tile(word: u32) -> vec2<u32> {
+#ifdef LAYERED
+    enter_layer(word >> 16u);
+    return vec2<u32>(word & 0xffu, (word >> 8u) & 0xffu);
+#else
+    return vec2<u32>(word & 0xffffu, word >> 16u);
+#endif
 }
 
 // Tile `k` of a span, row by row.
@@ -286,6 +347,8 @@ fn raster_tiles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
     let giants = min(min(atomicLoad(&tile_count[2]), GIANTS), capacity);
     for (var g = 0u; g < giants; g++) {
         let entry = tiles[capacity - 1u - g];
+        // The giant's layer (LAYERED); its tile word holds no tile.
+        _ = entry_tile(entry.tile);
         let s = setup(entry.instance, entry.triangle);
         if (s.count == 0u) {
             continue;
@@ -299,11 +362,11 @@ fn raster_tiles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
     let count = min(atomicLoad(&tile_count[0]), capacity - min(GIANTS, capacity));
     for (var e = wid.x; e < count; e += groups.x) {
         let entry = tiles[e];
+        let tile = entry_tile(entry.tile);
         let s = setup(entry.instance, entry.triangle);
         if (s.count == 0u) {
             continue;
         }
-        let tile = vec2<u32>(entry.tile & 0xffffu, entry.tile >> 16u);
         shade_tile(s, entry.global_id, pixel_bounds(s), tile, lane);
     }
 }

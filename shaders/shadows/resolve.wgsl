@@ -9,6 +9,10 @@
 // whole layer, or a strip a scrolled cascade uncovered (the compute
 // rasterizer drew the strip alone, as a target of the strip's size; the raster
 // hardware drew it into the layer's attachment, scissored to it).
+// from_visibility_layers: every part of a layered raster (LAYERED in
+// gbuffer/raster.wgsl, SPREADLIGHT_SHADOW_LAYERS=together) in one dispatch:
+// workgroups run over each part's 8x8 tiles in turn (`Part.first_group`),
+// and each texel goes through the same `store_depth` test as from_visibility.
 #import spreadlight::camera::Camera
 
 struct Info {
@@ -27,6 +31,23 @@ struct Info {
 @group(0) @binding(5) var still: texture_2d<f32>;
 #endif
 
+// One part of a layered raster: the layer written, where its words start,
+// its first workgroup and its width in workgroups, and its region (origin,
+// size: the size is its camera's, so its words are region.z wide).
+struct Part {
+    layer: u32,
+    words: u32,
+    first_group: u32,
+    groups_across: u32,
+    region: vec4<u32>,
+}
+
+@group(0) @binding(6) var<storage, read> parts: array<Part>;
+@group(0) @binding(7) var out_layers: texture_storage_2d_array<r32float, write>;
+#ifdef OVER_STILL
+@group(0) @binding(8) var still_layers: texture_2d_array<f32>;
+#endif
+
 fn store_depth(at: vec2<u32>, drawn: f32) {
     // NaN or infinity (a broken caster on a rasterizer that lets it through)
     // never reaches the map: written so that NaN fails the test too.
@@ -35,6 +56,42 @@ fn store_depth(at: vec2<u32>, drawn: f32) {
     d = min(d, textureLoad(still, vec2<i32>(at), 0).x);
 #endif
     textureStore(out_depth, at, vec4<f32>(d, 0.0, 0.0, 0.0));
+}
+
+// `store_depth` for a layer of the whole array.
+fn store_depth_layer(at: vec2<u32>, layer: u32, drawn: f32) {
+    var d = select(1.0, drawn, drawn >= 0.0 && drawn <= 1.0);
+#ifdef OVER_STILL
+    d = min(d, textureLoad(still_layers, vec2<i32>(at), i32(layer), 0).x);
+#endif
+    textureStore(out_layers, at, layer, vec4<f32>(d, 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn from_visibility_layers(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    // Over 65,535 workgroups spill into y; folded back into one index.
+    let group = wid.x + wid.y * groups.x;
+    // The part this workgroup is in: the last that starts at or before it
+    // (a few parts: a map's layers and strips).
+    let count = arrayLength(&parts);
+    var p = 0u;
+    for (var k = 1u; k < count; k++) {
+        if (parts[k].first_group <= group) {
+            p = k;
+        }
+    }
+    let part = parts[p];
+    let local = group - part.first_group;
+    let id = vec2<u32>(local % part.groups_across, local / part.groups_across) * 8u + lid.xy;
+    if (id.x >= part.region.z || id.y >= part.region.w) {
+        return;
+    }
+    let word = visibility[part.words + id.y * part.region.z + id.x];
+    var d = 1.0;
+    if (word != 0u) {
+        d = clamp(1.0 - bitcast<f32>(word), 0.0, 1.0);
+    }
+    store_depth_layer(part.region.xy + id, part.layer, d);
 }
 
 @compute @workgroup_size(8, 8)

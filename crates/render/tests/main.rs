@@ -39,6 +39,7 @@ mod particles;
 mod post_stability;
 mod reflection;
 mod shader_reference;
+mod shadow_layers;
 mod shadows;
 mod ssr;
 mod ssr_hi_z;

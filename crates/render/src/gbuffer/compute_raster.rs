@@ -29,6 +29,15 @@ const TILE_WORKGROUPS: u32 = 1024;
 /// (one per thread it runs them on, see `tile_workgroups`).
 const CPU_TILE_WORKGROUPS: u32 = 64;
 const WORKGROUP: u32 = 64;
+/// A layered raster's tile list holds this many single lists' worth at
+/// most (`record_layers`): room for what the layers would queue alone
+/// where there are few, without a point light's dozens of faces taking
+/// hundreds of megabytes.
+const LAYERED_LISTS: u32 = 8;
+/// On a GPU a layered raster strides over its tiles with this many times
+/// [`TILE_WORKGROUPS`] at most: the layers' tiles were that many dispatches
+/// of a thousand each, one after another.
+const LAYERED_TILE_SPREAD: u32 = 4;
 
 /// Matches `Batch` in raster.wgsl.
 #[repr(C)]
@@ -51,6 +60,46 @@ struct Targets {
     /// What `tile_count` starts each raster with (0 queued, the capacity),
     /// copied in the encoder so several rasters can share one.
     tile_reset: wgpu::Buffer,
+    /// Entries the tile list holds.
+    tile_capacity: u32,
+}
+
+impl Targets {
+    /// Buffers for `bytes` of `words` and a tile list of `tile_capacity` entries.
+    fn new(device: &wgpu::Device, words: Words, bytes: u64, tile_capacity: u32) -> Targets {
+        let storage = |label: &str, bytes: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        Targets {
+            capacity: bytes,
+            words,
+            visibility: storage(
+                match words {
+                    Words::Visibility64 => "visibility (64-bit)",
+                    Words::Depth32 => "raster depth (32-bit)",
+                },
+                bytes,
+            ),
+            tiles: storage("raster tiles", u64::from(tile_capacity) * 16),
+            tile_count: storage("raster tile count", 16),
+            tile_reset: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("raster tile count reset"),
+                contents: bytemuck::cast_slice(&[0u32, tile_capacity, 0, 0]),
+                usage: wgpu::BufferUsages::COPY_SRC,
+            }),
+            tile_capacity,
+        }
+    }
+
+    /// Whether these buffers hold `bytes` of `words` and `tile_capacity` tiles.
+    fn fits(&self, words: Words, bytes: u64, tile_capacity: u32) -> bool {
+        self.words == words && self.capacity >= bytes && self.tile_capacity == tile_capacity
+    }
 }
 
 /// What the compute rasterizer writes per pixel.
@@ -88,6 +137,24 @@ pub(crate) struct RasterView<'b> {
 /// reuses them instead of allocating 16 MB at 1080p every frame.
 #[derive(Default)]
 pub(crate) struct RasterTargets(Mutex<Option<Targets>>);
+
+/// A layered raster's buffers ([`ComputeRaster::record_layers`]), kept
+/// under the node apart from a single view's: its words and tile list hold
+/// every layer's.
+#[derive(Default)]
+pub(crate) struct LayeredTargets(Mutex<Option<Targets>>);
+
+/// What a layered raster draws: every layer's camera (an array of
+/// `Camera`), where each layer's words start (`layer_words` in
+/// raster.wgsl), how many layers and words there are in all, and the
+/// instances. Back faces are kept (shadow maps).
+pub(crate) struct LayeredView<'b> {
+    pub cameras: &'b wgpu::Buffer,
+    pub layer_words: &'b wgpu::Buffer,
+    pub layers: u32,
+    pub words: u64,
+    pub instances: &'b wgpu::Buffer,
+}
 
 /// One draw's share of the raster: its uniform ([`GpuBatch`]), how many
 /// triangles it rasterizes (all instances), whether they are particles
@@ -129,6 +196,8 @@ pub(crate) struct ComputeRaster {
     words: Words,
     pub first_triangle: wgpu::Buffer,
     targets: std::sync::Arc<RasterTargets>,
+    /// The node keeping the buffers (a layered raster finds its own under it).
+    owner: Option<u32>,
 }
 
 impl ComputeRaster {
@@ -189,6 +258,7 @@ impl ComputeRaster {
                 Some(owner) => renderer.state::<RasterTargets>(u64::from(owner)),
                 None => std::sync::Arc::default(),
             },
+            owner,
         }
     }
 
@@ -197,18 +267,26 @@ impl ComputeRaster {
     /// draw (the G-buffer's) (frame_graph/gather.rs): the same keys and
     /// entry points, known from the batches when the recipe is declared, so
     /// a first frame makes them on threads instead of in the pass.
+    /// `layered`: the pipelines of [`Self::record_layers`].
     pub(crate) fn announce(
         &self,
         renderer: &Renderer,
         fg: &mut crate::frame_graph::FrameGraph<'_>,
         two_sided_view: bool,
+        layered: bool,
     ) {
         if !fg.gathers_pipelines() {
             return;
         }
         let particles = self.batches.iter().any(|b| b.procedural);
         let class = renderer.gpu.adapter_class();
-        let key = |two_sided: bool| raster_key(class, two_sided, particles, self.words);
+        let key = |two_sided: bool| {
+            RasterKey {
+                layered,
+                ..raster_flags(class, two_sided, particles, self.words)
+            }
+            .key()
+        };
         let mut sides = [false; 2];
         for batch in &self.batches {
             sides[usize::from(two_sided_view || batch.two_sided)] = true;
@@ -285,34 +363,9 @@ impl ComputeRaster {
         let needed = (u64::from(size.0) * u64::from(size.1) * words.bytes()).max(words.bytes());
         if guard
             .as_ref()
-            .is_none_or(|t| t.capacity < needed || t.words != words)
+            .is_none_or(|t| !t.fits(words, needed, TILE_CAPACITY))
         {
-            let storage = |label: &str, bytes: u64| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: bytes,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
-            *guard = Some(Targets {
-                capacity: needed,
-                words,
-                visibility: storage(
-                    match words {
-                        Words::Visibility64 => "visibility (64-bit)",
-                        Words::Depth32 => "raster depth (32-bit)",
-                    },
-                    needed,
-                ),
-                tiles: storage("raster tiles", u64::from(TILE_CAPACITY) * 16),
-                tile_count: storage("raster tile count", 16),
-                tile_reset: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("raster tile count reset"),
-                    contents: bytemuck::cast_slice(&[0u32, TILE_CAPACITY, 0, 0]),
-                    usage: wgpu::BufferUsages::COPY_SRC,
-                }),
-            });
+            *guard = Some(Targets::new(&device, words, needed, TILE_CAPACITY));
         }
         let Some(targets) = guard.as_ref() else {
             return Err(RenderError::Pass {
@@ -379,12 +432,12 @@ impl ComputeRaster {
         match between {
             None => {
                 let all: Vec<_> = batch_groups.iter().collect();
-                raster_batches(cx, tiles, &all);
+                raster_batches(cx, tiles, &all, 1);
             }
             Some(between) => {
                 let (particles, meshes): (Vec<_>, Vec<_>) =
                     batch_groups.iter().partition(|b| b.procedural);
-                raster_batches(cx, tiles, &meshes);
+                raster_batches(cx, tiles, &meshes, 1);
                 between(cx, &targets.visibility)?;
                 if !particles.is_empty() {
                     cx.encoder().copy_buffer_to_buffer(
@@ -394,10 +447,95 @@ impl ComputeRaster {
                         0,
                         16,
                     );
-                    raster_batches(cx, tiles, &particles);
+                    raster_batches(cx, tiles, &particles, 1);
                 }
             }
         }
+        Ok(targets.visibility.clone())
+    }
+
+    /// Rasterize every layer of `view` in one chain (LAYERED in
+    /// raster.wgsl): one clear of all layers' words, one reset of the tile
+    /// list, each batch's triangles dispatched once with the layer as
+    /// workgroup_id.z, one tile kernel over every layer's big triangles.
+    /// Each layer's words get the atomics a [`Self::record_view`] of it
+    /// alone gives them (the same triangles set up through the same camera),
+    /// so they hold the same depth; layer k's start at `layer_words[k]` of
+    /// the buffer this returns. Back faces are kept (shadow maps). The tile
+    /// list holds [`LAYERED_LISTS`] single lists at most: a frame whose
+    /// layers queue more big-triangle tiles than that drops the rest, where
+    /// a layer alone drops what passes one list.
+    pub(crate) fn record_layers(
+        &self,
+        view: &LayeredView<'_>,
+        renderer: &Renderer,
+        cx: &mut PassContext<'_>,
+    ) -> Result<wgpu::Buffer, RenderError> {
+        let device = cx.gpu.device.clone();
+        let words = self.words;
+        let needed = (view.words * words.bytes()).max(words.bytes());
+        let tile_capacity = TILE_CAPACITY * view.layers.clamp(1, LAYERED_LISTS);
+        let state = match self.owner {
+            Some(owner) => renderer.state::<LayeredTargets>(u64::from(owner)),
+            None => std::sync::Arc::default(),
+        };
+        let mut guard = state.0.lock().unwrap_or_else(|e| e.into_inner());
+        if guard
+            .as_ref()
+            .is_none_or(|t| !t.fits(words, needed, tile_capacity))
+        {
+            *guard = Some(Targets::new(&device, words, needed, tile_capacity));
+        }
+        let Some(targets) = guard.as_ref() else {
+            return Err(RenderError::Pass {
+                pass: "compute raster".to_owned(),
+                message: "no visibility buffer".to_owned(),
+            });
+        };
+        cx.encoder()
+            .clear_buffer(&targets.visibility, 0, Some(needed));
+        cx.encoder()
+            .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
+        let particles = self.batches.iter().any(|b| b.procedural);
+        let class = cx.gpu.adapter_class();
+        let key = RasterKey {
+            layered: true,
+            ..raster_flags(class, true, particles, words)
+        }
+        .key();
+        let triangles = cx.compute_pipeline(&key, "raster_triangles")?;
+        let tiles_pipeline = cx.compute_pipeline(&key, "raster_tiles")?;
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        let groups_of = |cx: &mut PassContext<'_>,
+                         entry: &str,
+                         pipeline: &wgpu::ComputePipeline,
+                         batch: Option<&wgpu::Buffer>| {
+            let b = super::mesh_bindings(&vertices, &indices, view.instances)
+                .buffer("cameras", view.cameras)
+                .buffer("layer_words", view.layer_words)
+                .buffer("visibility", &targets.visibility)
+                .buffer("tiles", &targets.tiles)
+                .buffer("tile_count", &targets.tile_count)
+                .buffer_opt("batch", batch);
+            cx.bind_groups(&key, entry, pipeline, b)
+        };
+        let mut batch_groups: Vec<BatchGroup<'_>> = Vec::with_capacity(self.batches.len());
+        for b in &self.batches {
+            batch_groups.push(BatchGroup {
+                pipeline: &triangles,
+                groups: groups_of(cx, "raster_triangles", &triangles, Some(&b.uniform))?,
+                total: b.total,
+                procedural: b.procedural,
+            });
+        }
+        let tiles_groups = groups_of(cx, "raster_tiles", &tiles_pipeline, None)?;
+        let all: Vec<_> = batch_groups.iter().collect();
+        raster_batches(
+            cx,
+            (&tiles_pipeline, tiles_groups.as_slice()),
+            &all,
+            view.layers.max(1),
+        );
         Ok(targets.visibility.clone())
     }
 }
@@ -410,13 +548,18 @@ pub(crate) type Between<'b> =
 /// on a CPU adapter, where no draw is a particle system, corner positions
 /// fetched alone (MESHES_ONLY, adapter_class.rs), and 32-bit depth words.
 fn raster_key(class: AdapterClass, two_sided: bool, particles: bool, words: Words) -> ShaderKey {
+    raster_flags(class, two_sided, particles, words).key()
+}
+
+/// [`raster_key`]'s switches, one layer at a time.
+fn raster_flags(class: AdapterClass, two_sided: bool, particles: bool, words: Words) -> RasterKey {
     let meshes_only = class == AdapterClass::Cpu && !particles;
     RasterKey {
         two_sided,
         meshes_only,
         depth_only: words == Words::Depth32,
+        layered: false,
     }
-    .key()
 }
 
 /// How many workgroups stride over the queued tiles on a `class` adapter
@@ -445,13 +588,24 @@ fn cpu_threads() -> usize {
     *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
-/// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
+/// `batches`' triangles, then the big triangles' tiles, in the open compute
+/// pass; `layers` of them where the raster is layered (the triangles'
+/// workgroup_id.z), 1 otherwise.
 fn raster_batches(
     cx: &mut PassContext<'_>,
     (tiles, tiles_groups): (&wgpu::ComputePipeline, &[wgpu::BindGroup]),
     batches: &[&BatchGroup<'_>],
+    layers: u32,
 ) {
-    let tile_workgroups = tile_workgroups(cx.gpu.adapter_class(), cpu_threads());
+    let class = cx.gpu.adapter_class();
+    let tile_workgroups = tile_workgroups(class, cpu_threads())
+        * match class {
+            // Every workgroup strides over the whole list, so any count
+            // draws the same words.
+            AdapterClass::Gpu => layers.clamp(1, LAYERED_TILE_SPREAD),
+            // One a thread already keeps every thread busy.
+            AdapterClass::Cpu => 1,
+        };
     let pass = cx.compute_pass("compute raster");
     let mut dispatches = 0;
     for b in batches {
@@ -462,7 +616,7 @@ fn raster_batches(
         for (i, group) in b.groups.iter().enumerate() {
             pass.set_bind_group(i as u32, group, &[]);
         }
-        pass.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
+        pass.dispatch_workgroups(x, workgroups.div_ceil(x), layers);
         dispatches += 1;
     }
     pass.set_pipeline(tiles);
@@ -492,6 +646,26 @@ mod tests {
         assert_eq!(tile_workgroups(AdapterClass::Cpu, usize::MAX), 64);
     }
 
+    /// The layered raster (shadow maps' layers in one chain) composes and
+    /// validates with every other switch, as the single-view one does.
+    #[test]
+    fn every_raster_permutation_composes_layered_or_not() {
+        let mut composer = crate::shaders::ShaderComposer::new().expect("libraries compose");
+        let all = RasterKey::all();
+        assert_eq!(all.len(), 16);
+        for key in all {
+            let module = composer
+                .compose(&key.key())
+                .unwrap_or_else(|e| panic!("{key:?}: {e}"));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{key:?}: {e}"));
+        }
+    }
+
     #[test]
     fn a_cpu_adapter_fetches_positions_alone_where_no_draw_is_a_particle_system() {
         for two_sided in [false, true] {
@@ -500,6 +674,7 @@ mod tests {
                     two_sided,
                     meshes_only,
                     depth_only,
+                    layered: false,
                 }
                 .key()
             };

@@ -11,5 +11,8 @@ crate::flag_key! {
         meshes_only: "MESHES_ONLY",
         /// 32-bit depth words, no triangle ids.
         depth_only: "DEPTH_ONLY",
+        /// Every layer of a shadow map in one chain: the layer a dispatch
+        /// dimension, each with its camera and words (`record_layers`).
+        layered: "LAYERED",
     }
 }

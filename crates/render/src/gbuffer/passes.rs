@@ -25,7 +25,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     let label = |what: &'static str| PassName::new("MRE").step(what);
     let hardware = match (g.raster, &g.compute) {
         (RasterMode::Compute, Some(compute)) => {
-            compute.announce(renderer, fg, false);
+            compute.announce(renderer, fg, false, false);
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token
             // carries the dependency through the frame graph.
             let mut pass = fg.pass(label("compute raster"), g.owner);

@@ -18,8 +18,10 @@
 // Named by the permutation keys without the passes.
 pub(crate) mod filter;
 mod filter_key;
+pub mod layers;
 mod raster;
 pub(crate) mod raster_key;
+mod raster_layered;
 mod scroll;
 mod slices;
 mod store;
@@ -41,6 +43,7 @@ use store::ShadowStore;
 
 pub use filter::ShadowFilter;
 pub use filter_key::ShadowKey;
+pub use layers::{ShadowLayers, set_shadow_layers, shadow_layers};
 pub use views::{Cascades, LayerView};
 
 /// What every shadow map of a node shares.
@@ -196,8 +199,13 @@ pub struct ShadowMaps {
     /// What the layers are drawn from (both rasterizers read the sets).
     sets: Sets,
     /// The compute rasterizer's camera uniform per layer, where it draws
-    /// the maps ([`compute_rasterizes`]); the raster hardware draws them otherwise.
+    /// the maps ([`compute_rasterizes`]) one layer at a time.
     cameras: Option<Vec<wgpu::Buffer>>,
+    /// The compute rasterizer's camera per layer, where it draws the maps
+    /// (empty where the raster hardware draws them).
+    layer_cameras: Vec<crate::camera::GpuCamera>,
+    /// The compute rasterizer draws the layers together (layers.rs).
+    together: bool,
     store: Arc<ShadowStore>,
     layers: u32,
     /// Per layer, what its resolve and moments dispatches read: (layer, VSM
@@ -415,20 +423,32 @@ impl ShadowMaps {
             res,
             device.limits().max_storage_buffer_binding_size,
         );
-        let cameras = compute.then(|| {
+        let layer_cameras: Vec<crate::camera::GpuCamera> = if compute {
             (0..layers)
                 .map(|layer| {
-                    let vp = all_views(&plans, per, layer);
-                    let camera = CameraInput {
+                    CameraInput {
                         view: Mat4::IDENTITY,
-                        projection: vp,
+                        projection: all_views(&plans, per, layer),
                     }
-                    .to_gpu(None, (res, res));
+                    .to_gpu(None, (res, res))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let together = compute && layers::shadow_layers(renderer) == ShadowLayers::Together;
+        // Together, the layers' cameras go in one array as the pass draws
+        // (raster_layered.rs): no uniform a layer.
+        let cameras = (compute && !together).then(|| {
+            layer_cameras
+                .iter()
+                .enumerate()
+                .map(|(layer, camera)| {
                     renderer.kept_init_at(
                         owner,
                         "shadow layer camera",
-                        layer,
-                        bytemuck::bytes_of(&camera),
+                        layer as u32,
+                        bytemuck::bytes_of(camera),
                         wgpu::BufferUsages::UNIFORM,
                     )
                 })
@@ -492,6 +512,8 @@ impl ShadowMaps {
             casters,
             sets,
             cameras,
+            layer_cameras,
+            together,
             store,
             layers,
             layer_info,
@@ -575,7 +597,7 @@ impl ShadowMaps {
 
     /// Whether the compute rasterizer draws these maps (else the raster hardware).
     pub fn compute_raster(&self) -> bool {
-        self.cameras.is_some()
+        !self.layer_cameras.is_empty()
     }
 
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
@@ -707,7 +729,7 @@ impl Recipe for ShadowMaps {
             let mut pass = fg.pass(self.label("moments"), self.owner);
             pass.read(&self.depth_token);
             pass.write(&self.token, token);
-            pass.run(move |cx| self.moments_pass(cx));
+            pass.run(move |cx| self.moments_pass(cx, renderer));
         }
     }
 }

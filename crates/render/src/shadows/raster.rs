@@ -25,9 +25,9 @@ pub use super::raster_key::{MomentsKey, ShadowDepthKey, ShadowResolveKey};
 /// compute rasterizer draws the maps, its batches over them.
 pub(super) struct CasterSet {
     pub casters: Vec<Arc<Layer>>,
-    instances: wgpu::Buffer,
+    pub(super) instances: wgpu::Buffer,
     draws: Vec<Draw>,
-    compute: Option<ComputeRaster>,
+    pub(super) compute: Option<ComputeRaster>,
 }
 
 /// Which of a node's caster sets: each keeps its buffers under its own names.
@@ -170,6 +170,8 @@ pub(super) struct Strip {
     pub rect: Rect,
     pub info: wgpu::Buffer,
     pub camera: Option<wgpu::Buffer>,
+    /// What `camera` holds, for a layered raster's array of cameras.
+    pub gpu_camera: Option<crate::camera::GpuCamera>,
 }
 
 /// `view_projection` narrowed to `rect` of a map of `resolution` texels a
@@ -241,10 +243,10 @@ impl ShadowMaps {
             Sets::One(set) => (smallvec![set], false),
             Sets::Split { still, moving } => (smallvec![&**still, moving], true),
         };
-        let hardware = self.cameras.is_none();
+        let hardware = !self.compute_raster();
         for set in &sets {
             if let Some(raster) = &set.compute {
-                raster.announce(renderer, fg, true);
+                raster.announce(renderer, fg, true, self.together);
             }
         }
         if hardware {
@@ -256,6 +258,8 @@ impl ShadowMaps {
         }
         let entry = if hardware {
             "from_depth"
+        } else if self.together {
+            "from_visibility_layers"
         } else {
             "from_visibility"
         };
@@ -264,11 +268,12 @@ impl ShadowMaps {
             fg.will_dispatch(&Self::resolve_key(Target::MapOverStill), entry);
         }
         if matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
-            fg.will_dispatch(&MomentsKey.key(), "main");
+            let entry = if self.together { "main_layers" } else { "main" };
+            fg.will_dispatch(&MomentsKey.key(), entry);
         }
     }
 
-    fn resolve_key(target: Target) -> ShaderKey {
+    pub(super) fn resolve_key(target: Target) -> ShaderKey {
         ShadowResolveKey {
             over_still: target == Target::MapOverStill,
         }
@@ -276,7 +281,7 @@ impl ShadowMaps {
     }
 
     /// The texture a job writes and, over the still cache, the one it reads.
-    fn outputs(
+    pub(super) fn outputs(
         maps: &mut StoredMaps,
         device: &wgpu::Device,
         target: Target,
@@ -510,7 +515,11 @@ impl ShadowMaps {
     }
 
     /// VSM's second pass: moments of the layers the render pass just drew.
-    pub(super) fn moments_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    pub(super) fn moments_pass(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+    ) -> Result<(), RenderError> {
         if !matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
             return Ok(());
         }
@@ -520,6 +529,9 @@ impl ShadowMaps {
         };
         let regions = std::mem::take(&mut maps.pending_moments);
         match (&maps.moments, regions.is_empty()) {
+            (Some(moments), false) if self.together => {
+                self.moments_together(cx, renderer, &maps.depth, moments, &regions)
+            }
             (Some(moments), false) => self.moments(cx, &maps.depth, moments, &regions),
             _ => Ok(()),
         }

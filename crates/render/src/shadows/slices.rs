@@ -27,7 +27,7 @@ impl ShadowMaps {
             per_slice: self.per_slice,
             resolution: self.settings.resolution,
             vsm,
-            hardware: self.cameras.is_none(),
+            hardware: !self.compute_raster(),
         };
         let mut guard = self.store.maps.lock().unwrap_or_else(|e| e.into_inner());
         if guard.as_ref().is_none_or(|m| m.layout != layout) {
@@ -165,7 +165,7 @@ impl ShadowMaps {
                         self.owner,
                         SetKind::All,
                         self.casters.clone(),
-                        self.cameras.is_some(),
+                        self.compute_raster(),
                     );
                     &all_set
                 }
@@ -215,12 +215,16 @@ impl ShadowMaps {
                     .enumerate()
                     .map(|(k, rect)| {
                         let index = layer * 2 + k as u32;
-                        let camera = self.cameras.is_some().then(|| {
-                            let camera = crate::camera::CameraInput {
+                        let gpu_camera = self.compute_raster().then(|| {
+                            crate::camera::CameraInput {
                                 view: glam::Mat4::IDENTITY,
                                 projection: strip_projection(view_projection, rect, res),
                             }
-                            .to_gpu(None, (rect.w, rect.h));
+                            .to_gpu(None, (rect.w, rect.h))
+                        });
+                        // Rasterized together, the strip's camera joins the
+                        // layers' array instead (raster_layered.rs).
+                        let camera = gpu_camera.filter(|_| !self.together).map(|camera| {
                             renderer.kept_init_at(
                                 self.owner,
                                 "shadow strip camera",
@@ -236,7 +240,12 @@ impl ShadowMaps {
                             bytemuck::cast_slice(&region_info(layer, blur, rect)),
                             wgpu::BufferUsages::UNIFORM,
                         );
-                        Strip { rect, info, camera }
+                        Strip {
+                            rect,
+                            info,
+                            camera,
+                            gpu_camera,
+                        }
                     })
                     .collect();
                 jobs.push(Job {
@@ -279,6 +288,7 @@ impl ShadowMaps {
         count(cx, "shadow layers drawn whole", whole);
         count(cx, "shadow texels drawn", drawn);
         match &self.cameras {
+            _ if self.together => self.raster_together(cx, renderer, maps, &jobs)?,
             Some(cameras) => self.raster_compute(cx, renderer, maps, cameras, &jobs)?,
             None => self.raster_hardware(cx, renderer, maps, &jobs)?,
         }
