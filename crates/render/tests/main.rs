@@ -42,6 +42,7 @@ mod shader_reference;
 mod shadows;
 mod ssr;
 mod ssr_hi_z;
+mod submission_thread;
 mod surface_lighting;
 mod taa;
 mod tonemap;
