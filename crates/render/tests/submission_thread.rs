@@ -24,7 +24,8 @@ fn a_frame_on_the_thread_counts_the_threads_time_and_submits_its_buffers() {
     let renderer = test_renderer();
     renderer.set_recording(Recording::Batched);
     renderer.set_submission(Submission::Thread);
-    // Timed: the frame waits for its own submission, whose outcome is its report's.
+    // Timed: the frame waits for its own submission, whose outcome is its
+    // report's (these passes dispatch nothing, so write no timestamps).
     renderer.set_timing(Timing::Frame);
     let timed = frame(&renderer, 8, None);
     assert!(timed.errors.is_empty(), "{:?}", timed.errors);
@@ -32,7 +33,6 @@ fn a_frame_on_the_thread_counts_the_threads_time_and_submits_its_buffers() {
     assert_eq!(timed.counter("command encoders handed over"), 2);
     // The frame's runs and the timestamps' copy, submitted there.
     assert_eq!(timed.counter("command buffers"), 3);
-    assert!(renderer.gpu.has_timestamps() == timed.gpu_frame_ms.is_some());
     // Frames in flight: each frame carries the time of the one before,
     // which its first use of the queue waited for.
     renderer.set_timing(Timing::Off);

@@ -604,8 +604,10 @@ fn execute(
     }
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;
     report.submit_ms = (started.elapsed() - passes_recorded).as_secs_f64() * 1e3;
-    if threaded && timed && own.is_none() {
-        // Its timestamps are written by its own submission.
+    // A timed frame waits for its own submission, whose timestamps it
+    // reads, and whose outcome is its report's (on an adapter without
+    // timestamps too, so a timed frame's report is whole everywhere).
+    if threaded && timing != Timing::Off && own.is_none() {
         executor.submitter().wait();
         own = executor.submitter().take();
     }
