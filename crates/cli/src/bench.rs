@@ -66,9 +66,10 @@ pub struct Args {
     recording: String,
     /// Submit each frame on the recording thread (`inline`) or hand its
     /// tail (finishing the last encoders, the queue's submit) to a
-    /// submission thread (`thread`): docs/benchmarks.md, "cpu22". Unset:
-    /// what SPREADLIGHT_SUBMIT says, else `inline`.
-    #[arg(long, value_parser = ["inline", "thread"])]
+    /// submission thread (`thread`), or `auto` (the thread on a GPU):
+    /// docs/benchmarks.md, "cpu22". Unset: what SPREADLIGHT_SUBMIT says,
+    /// else `inline`.
+    #[arg(long, value_parser = ["inline", "thread", "auto"])]
     submit: Option<String>,
     /// Plan the frame graph afresh every frame instead of reusing last
     /// frame's plan while nothing declared changed: the same frames, for
@@ -279,10 +280,9 @@ fn wall_clock(
             let report = renderer.last_report();
             // Without the wait for a frame in flight to finish, nor those
             // for the submission thread (counted apart).
-            let ms = (step.elapsed().as_secs_f64() * 1e3
-                - report.wait_ms
-                - report.submission_wait_ms)
-                .max(0.0);
+            let ms =
+                (step.elapsed().as_secs_f64() * 1e3 - report.wait_ms - report.submission_wait_ms)
+                    .max(0.0);
             cpu.cpu.push(ms);
             cpu.push_threads(ms, &report);
             cpu.record.push(report.record_ms);
@@ -337,6 +337,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         None => Submission::from_env().map_err(anyhow::Error::msg)?,
     };
     renderer.set_submission(submission);
+    // The setting taken, `auto` resolved for this adapter.
+    let submission = submission.on(renderer.gpu.adapter_class());
     renderer.set_plan_reuse(!args.no_plan_reuse);
     renderer.set_kept_bindings(!args.no_kept_bindings);
     if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {

@@ -39,9 +39,16 @@ fn a_sequence_submitted_on_the_thread_has_the_bytes_of_inline_submission() {
     }
     // An unknown setting is an error naming the variable.
     let mut cmd = command(&["render", "patches/post.ron", "-o", path(&inline)]);
-    let o = cmd.env("SPREADLIGHT_SUBMIT", "later").output().expect("runs");
+    let o = cmd
+        .env("SPREADLIGHT_SUBMIT", "later")
+        .output()
+        .expect("runs");
     assert_ne!(o.status.code(), Some(0));
-    assert!(text(&o.stderr).contains("SPREADLIGHT_SUBMIT"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("SPREADLIGHT_SUBMIT"),
+        "{}",
+        text(&o.stderr)
+    );
 }
 
 #[test]
@@ -89,7 +96,10 @@ fn bench_reports_the_submission_threads_time_apart_from_the_recording_threads() 
         assert!(ms("cpu_submission_wait_ms_median") >= 0.0);
     }
     let inline = bench("inline");
-    assert!(inline["cpu_submission_thread_ms_median"].is_null(), "{inline}");
+    assert!(
+        inline["cpu_submission_thread_ms_median"].is_null(),
+        "{inline}"
+    );
     assert!(inline["wall_cpu_submission_thread_ms_median"].is_null());
     assert_eq!(inline["cpu_total_ms_median"], inline["cpu_ms_median"]);
     assert_eq!(inline["cpu_submission_wait_ms_median"], 0.0);

@@ -134,7 +134,10 @@ mod tests {
             payer.paid();
         });
         owed.wait();
-        assert!(submitted.load(Ordering::SeqCst), "returned before the payment");
+        assert!(
+            submitted.load(Ordering::SeqCst),
+            "returned before the payment"
+        );
         assert!(!owed.is_owed());
         paid.join().expect("the payer ends");
     }

@@ -93,7 +93,9 @@ fn a_frame_that_fails_on_the_thread_is_dropped_and_named_and_the_next_names_the_
     let next = frame(&renderer, passes, None);
     assert_eq!(next.errors.len(), 1, "{:?}", next.errors);
     assert!(
-        next.errors[0].1.starts_with("the frame before, at its submission: ")
+        next.errors[0]
+            .1
+            .starts_with("the frame before, at its submission: ")
             && next.errors[0].1.contains(FAILED),
         "{}",
         next.errors[0].1
@@ -124,7 +126,9 @@ fn the_gate_holds_a_threads_submission_back_without_holding_the_recording() {
     });
     let report = returned.recv_timeout(HUNG).expect("the frame returns");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    wakes.recv_timeout(HUNG).expect("the submission asks to be let in");
+    wakes
+        .recv_timeout(HUNG)
+        .expect("the submission asks to be let in");
     assert_eq!(gate.counts().since(before).submissions, 0, "held back");
     gate.open();
     renderer.wait_idle().expect("drains");
@@ -151,5 +155,9 @@ fn a_renderer_dropped_with_a_frame_owed_submits_it_and_ends() {
         let _ = dropped.send(());
     });
     ended.recv_timeout(HUNG).expect("the drop ends");
-    assert_eq!(gate.counts().since(before).submissions, 3, "every frame submitted");
+    assert_eq!(
+        gate.counts().since(before).submissions,
+        3,
+        "every frame submitted"
+    );
 }

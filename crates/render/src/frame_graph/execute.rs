@@ -166,7 +166,7 @@ fn execute(
     };
     if let Some(before) = before {
         // Its time only where this frame goes to the thread too (an inline frame reports none).
-        let threaded = executor.submission() == Submission::Thread;
+        let threaded = executor.submission().on(gpu.adapter_class()) == Submission::Thread;
         land(
             executor,
             &mut report,
@@ -535,7 +535,7 @@ fn execute(
     // Whether this frame's timestamps are read back (it waits for the GPU).
     let timed = timestamps.is_some() && next_query > 0;
     // With a submission thread, the tail goes there (submitter.rs).
-    let threaded = executor.submission() == Submission::Thread;
+    let threaded = executor.submission().on(gpu.adapter_class()) == Submission::Thread;
     let mut job = None;
     if let (Some(encoder), Some(scope), Some(finishing)) = (shared, frame_scope, finishing) {
         if threaded {
@@ -584,7 +584,7 @@ fn execute(
         Some(mut job) => {
             job.host = host_commands;
             job.throttle = (!timed).then_some(FRAMES_IN_FLIGHT);
-            if let Err(mut job) = executor.submitter().send(gpu, job) {
+            if let Some(mut job) = executor.submitter().send(gpu, job) {
                 // No thread could start: the same tail, here.
                 job.throttle = None;
                 let outcome = super::submitter::submit(gpu, job, &mut Default::default());

@@ -30,17 +30,23 @@ use super::finisher::Finishing;
 use crate::context::GpuContext;
 use crate::frame_queue::Owed;
 
-/// The environment variable that picks where frames are submitted: `inline` or `thread`.
+/// The environment variable that picks where frames are submitted:
+/// `inline`, `thread` or `auto`.
 pub const SUBMIT_VAR: &str = "SPREADLIGHT_SUBMIT";
 
 /// Where a frame's tail (finishing the last encoders, the queue's submit) runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Submission {
-    /// On the recording thread, before the frame returns (the default).
+    /// On the recording thread, before the frame returns (the default
+    /// until the H200 decides: docs/benchmarks.md, "cpu22").
     #[default]
     Inline,
     /// On a submission thread, while the recording thread goes on.
     Thread,
+    /// `Thread` on a GPU, `Inline` on a CPU adapter: there the GPU's work
+    /// is CPU work too (lavapipe renders inside the submission), and a
+    /// thread more only competes for the same cores.
+    Auto,
 }
 
 impl Submission {
@@ -48,16 +54,31 @@ impl Submission {
         match text.trim().to_ascii_lowercase().as_str() {
             "inline" => Some(Submission::Inline),
             "thread" => Some(Submission::Thread),
+            "auto" => Some(Submission::Auto),
             _ => None,
         }
     }
 
-    /// What [`SUBMIT_VAR`] says, `Inline` when unset; an error for a value it does not know.
+    /// What [`SUBMIT_VAR`] says, `Inline` when unset; an error naming the
+    /// variable for a value it does not know (a benchmark must not measure
+    /// another setting than the one asked for).
     pub fn from_env() -> Result<Submission, String> {
         match std::env::var(SUBMIT_VAR) {
-            Err(_) => Ok(Submission::Inline),
-            Ok(text) => Submission::parse(&text)
-                .ok_or_else(|| format!("{SUBMIT_VAR}=`{text}`: expected `inline` or `thread`")),
+            Err(std::env::VarError::NotPresent) => Ok(Submission::default()),
+            Err(e) => Err(format!("{SUBMIT_VAR}: {e}")),
+            Ok(text) => Submission::parse(&text).ok_or_else(|| {
+                format!("{SUBMIT_VAR} is `{text}`: it takes `inline`, `thread` or `auto`")
+            }),
+        }
+    }
+
+    /// The setting taken on an adapter of `class`: `Auto` resolved.
+    pub fn on(self, class: crate::adapter_class::AdapterClass) -> Submission {
+        use crate::adapter_class::AdapterClass;
+        match (self, class) {
+            (Submission::Auto, AdapterClass::Gpu) => Submission::Thread,
+            (Submission::Auto, AdapterClass::Cpu) => Submission::Inline,
+            (submission, _) => submission,
         }
     }
 
@@ -65,6 +86,7 @@ impl Submission {
         match self {
             Submission::Inline => "inline",
             Submission::Thread => "thread",
+            Submission::Auto => "auto",
         }
     }
 }
@@ -125,21 +147,24 @@ impl Submitter {
 
     /// Hand `job` to the submission thread (started if it is not running);
     /// the job back where no thread can be started.
-    pub fn send(&self, gpu: &GpuContext, job: Job) -> Result<(), Job> {
+    pub fn send(&self, gpu: &GpuContext, job: Job) -> Option<Job> {
         let mut thread = self.thread.lock().unwrap_or_else(|e| e.into_inner());
         if thread.is_none() {
             *thread = spawn(gpu.clone(), self.outcome.clone());
         }
         let Some((sender, _)) = thread.as_ref() else {
-            return Err(job);
+            return Some(job);
         };
         // Owed before it is sent: the thread pays it once submitted.
         self.owed.owe();
-        sender.send(job).map_err(|e| {
+        match sender.send(job) {
+            Ok(()) => None,
             // The thread ended (it cannot while the sender lives): nothing is owed.
-            self.owed.paid();
-            e.0
-        })
+            Err(unsent) => {
+                self.owed.paid();
+                Some(unsent.0)
+            }
+        }
     }
 
     /// Wait for the frame submission owed, if any.
@@ -192,7 +217,10 @@ impl Drop for Submitter {
     }
 }
 
-fn spawn(gpu: GpuContext, slot: Arc<Mutex<Option<Outcome>>>) -> Option<(Sender<Job>, JoinHandle<()>)> {
+fn spawn(
+    gpu: GpuContext,
+    slot: Arc<Mutex<Option<Outcome>>>,
+) -> Option<(Sender<Job>, JoinHandle<()>)> {
     let (sender, jobs) = channel::<Job>();
     let handle = std::thread::Builder::new()
         .name("spreadlight submit".into())
@@ -203,9 +231,7 @@ fn spawn(gpu: GpuContext, slot: Arc<Mutex<Option<Outcome>>>) -> Option<(Sender<J
                     submit(&gpu, job, &mut in_flight)
                 }))
                 .unwrap_or_else(|_| Outcome {
-                    errors: vec![
-                        "submitting the frame panicked; the frame was dropped".to_owned(),
-                    ],
+                    errors: vec!["submitting the frame panicked; the frame was dropped".to_owned()],
                     dropped: true,
                     ..Default::default()
                 });
@@ -312,9 +338,32 @@ pub(crate) fn submit(
                     timeout: None,
                 })
             {
-                outcome.errors.push(format!("waiting for a frame in flight: {e}"));
+                outcome
+                    .errors
+                    .push(format!("waiting for a frame in flight: {e}"));
             }
         }
     }
     outcome
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_setting_parses_and_auto_takes_the_thread_on_a_gpu_only() {
+        use crate::adapter_class::AdapterClass::{Cpu, Gpu};
+        assert_eq!(Submission::parse(" Thread"), Some(Submission::Thread));
+        assert_eq!(Submission::parse("inline"), Some(Submission::Inline));
+        assert_eq!(Submission::parse("auto"), Some(Submission::Auto));
+        assert_eq!(Submission::parse("later"), None);
+        assert_eq!(Submission::default(), Submission::Inline);
+        assert_eq!(Submission::Auto.on(Gpu), Submission::Thread);
+        assert_eq!(Submission::Auto.on(Cpu), Submission::Inline);
+        for s in [Submission::Inline, Submission::Thread] {
+            assert_eq!((s.on(Gpu), s.on(Cpu)), (s, s));
+            assert_eq!(Submission::parse(s.name()), Some(s));
+        }
+    }
 }
