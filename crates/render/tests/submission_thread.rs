@@ -161,3 +161,68 @@ fn a_renderer_dropped_with_a_frame_owed_submits_it_and_ends() {
         "every frame submitted"
     );
 }
+
+#[test]
+fn a_write_between_frames_reaches_the_next_frames_submission_not_the_one_owed() {
+    const FRAMES: u64 = 6;
+    let renderer = test_renderer();
+    renderer.set_recording(Recording::Batched);
+    renderer.set_timing(Timing::Off);
+    renderer.set_submission(Submission::Thread);
+    let device = &renderer.gpu.device;
+    let buffer = |label, size, usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    use wgpu::BufferUsages as U;
+    let value = buffer("value", 4, U::COPY_SRC | U::COPY_DST);
+    let slots = buffer("slots", 4 * FRAMES, U::COPY_SRC | U::COPY_DST);
+    let readback = buffer("readback", 4 * FRAMES, U::MAP_READ | U::COPY_DST);
+    for k in 0..FRAMES {
+        // As a node's evaluation writes a uniform before its frame records,
+        // while the frame before may still be owed: wgpu applies the write
+        // at the next submit, which must be this frame's.
+        renderer
+            .gpu
+            .queue
+            .write_buffer(&value, 0, &(k as u32).to_le_bytes());
+        let mut fg = spreadlight_render::FrameGraph::new((4, 4));
+        let names: Vec<String> = (0..8).map(|i| format!("pass {i}")).collect();
+        for (i, name) in names.iter().enumerate() {
+            let mut pass = fg.pass(
+                spreadlight_render::frame_graph::PassName::new(name.clone()),
+                Some(i as u32),
+            );
+            pass.write(name, spreadlight_render::TextureDesc::token());
+            let (value, slots) = (&value, &slots);
+            pass.run(move |cx| {
+                if i == 7 {
+                    cx.encoder()
+                        .copy_buffer_to_buffer(value, 0, slots, 4 * k, 4);
+                }
+                Ok(())
+            });
+            fg.request(name);
+        }
+        let report = fg.execute(&renderer).expect("the frame executes").0;
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+    }
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(&slots, 0, &readback, 0, 4 * FRAMES);
+    renderer.gpu.submit([encoder.finish()]);
+    let slice = readback.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |r| r.expect("maps"));
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("drains");
+    let bytes = slice.get_mapped_range().expect("mapped").to_vec();
+    let seen: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    assert_eq!(seen, (0..FRAMES as u32).collect::<Vec<_>>());
+}
