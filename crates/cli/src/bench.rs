@@ -19,7 +19,7 @@ use spreadlight_render::lighting::light_sets::{self, LightFusion, LightSums};
 use spreadlight_render::packed_surface::{
     self as packed_surface, BLUR_INPUTS_VAR, MARCH_INPUTS_VAR, Reader, SurfaceInputs,
 };
-use spreadlight_render::renderer::{PassOrder, Recording, Timing};
+use spreadlight_render::renderer::{PassOrder, Recording, Submission, Timing};
 use spreadlight_render::resolution::{self, AutoChoice};
 
 use std::path::PathBuf;
@@ -65,6 +65,13 @@ pub struct Args {
     /// Record the frame in one command encoder (`batched`, as the CLI and editor do) or each pass in its own (`isolated`).
     #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
     recording: String,
+    /// Submit each frame on the recording thread (`inline`) or hand its
+    /// tail (finishing the last encoders, the queue's submit) to a
+    /// submission thread (`thread`), or `auto` (the thread on a GPU):
+    /// docs/benchmarks.md, "cpu22". Unset: what SPREADLIGHT_SUBMIT says,
+    /// else `inline`.
+    #[arg(long, value_parser = ["inline", "thread", "auto"])]
+    submit: Option<String>,
     /// Plan the frame graph afresh every frame instead of reusing last
     /// frame's plan while nothing declared changed: the same frames, for
     /// timing what the kept plan saves (`plans_reused` in `--json`).
@@ -213,6 +220,15 @@ struct Series {
     record: Vec<f64>,
     submit: Vec<f64>,
     queue_submit: Vec<f64>,
+    /// The recording thread's waits for the submission thread (not CPU work).
+    submission_wait: Vec<f64>,
+    /// The submission thread's time per frame (empty inline).
+    submission_thread: Vec<f64>,
+    /// CPU per frame across threads: the recording thread's and the submission thread's.
+    total: Vec<f64>,
+    /// The recording thread's time per frame not waiting for the GPU:
+    /// its CPU and its waits for the submission thread.
+    critical: Vec<f64>,
     /// Frame graphs whose kept plan was reused, and those planned afresh.
     plans_reused: u64,
     plans_made: u64,
@@ -221,6 +237,18 @@ struct Series {
     pipelines_kept: u64,
     bind_groups_kept: u64,
     bind_groups_created: u64,
+}
+
+impl Series {
+    /// The figures of one frame: its recording thread's CPU `cpu` (waits
+    /// left out) and what the report says of the submission thread.
+    fn push_threads(&mut self, cpu: f64, report: &spreadlight_render::FrameReport) {
+        self.submission_wait.push(report.submission_wait_ms);
+        let thread = report.submission_thread_ms;
+        self.submission_thread.extend(thread);
+        self.total.push(cpu + thread.unwrap_or(0.0));
+        self.critical.push(cpu + report.submission_wait_ms);
+    }
 }
 
 /// Frames run back to back with timing off (frames in flight): what a host gets.
@@ -260,9 +288,13 @@ fn wall_clock(
         }
         if k >= args.warmup {
             let report = renderer.last_report();
-            // Without the wait for a frame in flight to finish.
-            let ms = (step.elapsed().as_secs_f64() * 1e3 - report.wait_ms).max(0.0);
+            // Without the wait for a frame in flight to finish, nor those
+            // for the submission thread (counted apart).
+            let ms =
+                (step.elapsed().as_secs_f64() * 1e3 - report.wait_ms - report.submission_wait_ms)
+                    .max(0.0);
             cpu.cpu.push(ms);
+            cpu.push_threads(ms, &report);
             cpu.record.push(report.record_ms);
             cpu.submit.push(report.submit_ms);
             cpu.eval.push((ms - report.record_ms).max(0.0));
@@ -309,6 +341,14 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     } else {
         Recording::Isolated
     });
+    let submission = match args.submit.as_deref().and_then(Submission::parse) {
+        Some(submission) => submission,
+        // A bench must not measure another setting than the one asked for.
+        None => Submission::from_env().map_err(anyhow::Error::msg)?,
+    };
+    renderer.set_submission(submission);
+    // The setting taken, `auto` resolved for this adapter.
+    let submission = submission.on(renderer.gpu.adapter_class());
     renderer.set_plan_reuse(!args.no_plan_reuse);
     renderer.set_kept_bindings(!args.no_kept_bindings);
     if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {
@@ -397,9 +437,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             continue;
         }
         let report = renderer.last_report();
-        // CPU: evaluating the patch and recording the frame, without the wait for the GPU.
-        let cpu = (wall_ms - report.wait_ms).max(0.0);
+        // CPU: evaluating the patch and recording the frame, without the
+        // wait for the GPU, nor those for the submission thread (counted apart).
+        let cpu = (wall_ms - report.wait_ms - report.submission_wait_ms).max(0.0);
         series.cpu.push(cpu);
+        series.push_threads(cpu, &report);
         series.record.push(report.record_ms);
         series.submit.push(report.submit_ms);
         series.queue_submit.push(report.queue_submit_ms);
@@ -461,6 +503,15 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     } else {
         None
     };
+    // The wall frames' figures across threads.
+    let wall_threads = wall.as_ref().map_or((None, None, None, None), |w| {
+        (
+            median(w.cpu.submission_wait.clone()),
+            median(w.cpu.submission_thread.clone()),
+            median(w.cpu.total.clone()),
+            median(w.cpu.critical.clone()),
+        )
+    });
     let wall_cpu = wall.as_ref().map_or((None, None, None, None), |w| {
         (
             median(w.cpu.cpu.clone()),
@@ -488,7 +539,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         median(series.submit),
     );
     if args.json {
-        let line = serde_json::json!({
+        let mut line = serde_json::json!({
             "patch": args.patch.display().to_string(),
             "size": format!("{}x{}", args.size.0, args.size.1),
             "sets": args.sets,
@@ -532,6 +583,25 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "pass_order": passes,
             "cold_start": cold_start.map(|c| c.json()),
         });
+        // Where frames were submitted, and the figures across threads (a
+        // second object: one `json!` of them all passes the macro's recursion limit).
+        let threads = serde_json::json!({
+            "submit": submission.name(),
+            // The recording thread's waits for the submission thread, the
+            // submission thread's CPU, the CPU across both threads, and the
+            // recording thread's time not waiting for the GPU (CPU + waits).
+            "cpu_submission_wait_ms_median": median(series.submission_wait.clone()),
+            "cpu_submission_thread_ms_median": median(series.submission_thread.clone()),
+            "cpu_total_ms_median": median(series.total.clone()),
+            "cpu_critical_ms_median": median(series.critical.clone()),
+            "wall_cpu_submission_wait_ms_median": wall_threads.0,
+            "wall_cpu_submission_thread_ms_median": wall_threads.1,
+            "wall_cpu_total_ms_median": wall_threads.2,
+            "wall_cpu_critical_ms_median": wall_threads.3,
+        });
+        if let (Some(line), serde_json::Value::Object(threads)) = (line.as_object_mut(), threads) {
+            line.extend(threads);
+        }
         println!("{line}");
     } else {
         println!(
@@ -560,6 +630,14 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("    evaluating the patch {}", show(eval));
         println!("    recording the frame  {}", show(record));
         println!("      of which finishing and submitting {}", show(submit));
+        if submission == Submission::Thread {
+            println!(
+                "    submission thread    {} (waited for {}; CPU across threads {})",
+                show(median(series.submission_thread.clone())),
+                show(median(series.submission_wait.clone())),
+                show(median(series.total.clone()))
+            );
+        }
         println!(
             "    frame graph plans  {} reused, {} made",
             series.plans_reused, series.plans_made

@@ -17,4 +17,5 @@ mod farm;
 mod half_resolution;
 mod sequence;
 mod sequence_quality;
+mod submission_thread;
 mod view;

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
+use crate::frame_queue::FrameQueue;
 use crate::pipeline_cache::DiskPipelineCache;
 use crate::submission_gate::SubmissionGate;
 use crate::uncaptured::{UncapturedErrors, error_text};
@@ -33,7 +34,9 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
 #[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
-    pub queue: wgpu::Queue,
+    /// The queue, which waits for a frame submission a submission thread
+    /// still owes before it is used (frame_queue.rs).
+    pub queue: FrameQueue,
     pub adapter_info: Arc<wgpu::AdapterInfo>,
     /// GPU or CPU: the paths the adapter-dependent choices take (from
     /// `adapter_info` unless [`GpuContext::with_adapter_class`] says otherwise).
@@ -153,7 +156,7 @@ impl GpuContext {
             },
             pipeline_cache,
             device,
-            queue,
+            queue: FrameQueue::new(queue),
             class: AdapterClass::of(&adapter_info),
             adapter_info: Arc::new(adapter_info),
             gate: SubmissionGate::default(),
@@ -202,7 +205,18 @@ impl GpuContext {
         &self,
         commands: I,
     ) -> wgpu::SubmissionIndex {
-        self.gate.pass(|| self.queue.submit(commands))
+        // After the frame a submission thread owes (frame_queue.rs).
+        self.queue.owed().wait();
+        self.submit_unordered(commands)
+    }
+
+    /// [`GpuContext::submit`] without waiting for an owed frame submission:
+    /// the submission thread's, which pays it (frame_graph/submitter.rs).
+    pub(crate) fn submit_unordered<I: IntoIterator<Item = wgpu::CommandBuffer>>(
+        &self,
+        commands: I,
+    ) -> wgpu::SubmissionIndex {
+        self.gate.pass(|| self.queue.unordered().submit(commands))
     }
 
     /// The gate [`GpuContext::submit`] passes, for a host that configures

@@ -13,6 +13,7 @@ pub mod environment;
 pub mod error;
 pub mod finite;
 pub mod frame_graph;
+pub mod frame_queue;
 pub mod gbuffer;
 pub mod geometry;
 pub mod image_io;

@@ -19,7 +19,9 @@ mod kept;
 use kept::{KeptBuffer, KeptKey, Uploads};
 
 pub(crate) use crate::context::read_buffer;
-pub use crate::frame_graph::{Executor, PERSISTENT_IDLE_GRAPHS, PassOrder, Recording, Timing};
+pub use crate::frame_graph::{
+    Executor, PERSISTENT_IDLE_GRAPHS, PassOrder, Recording, SUBMIT_VAR, Submission, Timing,
+};
 
 pub struct Renderer {
     pub gpu: GpuContext,
@@ -119,6 +121,16 @@ impl Renderer {
 
     pub fn set_pass_order(&self, order: PassOrder) {
         self.executor.set_pass_order(order);
+    }
+
+    /// Where frames are submitted: on the recording thread or on a
+    /// submission thread (`Executor::set_submission`, `SPREADLIGHT_SUBMIT`).
+    pub fn submission(&self) -> Submission {
+        self.executor.submission()
+    }
+
+    pub fn set_submission(&self, submission: Submission) {
+        self.executor.set_submission(submission);
     }
 
     /// Wait for every submission so far (frames in flight drained).

@@ -126,7 +126,21 @@ pub struct FrameReport {
     /// driver's submission).
     pub queue_submit_ms: f64,
     /// Time spent waiting for the GPU to finish (to read the timestamps).
+    /// With a submission thread, a timed frame's wait for its own
+    /// submission is part of it.
     pub wait_ms: f64,
+    /// With a submission thread (`SPREADLIGHT_SUBMIT=thread`,
+    /// frame_graph/submitter.rs): the time the recording thread waited for
+    /// the frame before's submission since that frame returned (the next
+    /// frame's first use of the queue waits for it, frame_queue.rs). Not
+    /// CPU work; part of the critical path when it is not zero.
+    pub submission_wait_ms: f64,
+    /// With a submission thread: the CPU time it spent on a frame
+    /// (collecting and finishing the encoders, the queue's submit). This
+    /// frame's where the frame waited for its own submission (its
+    /// timestamps are read back), else the frame before's, which this
+    /// frame's first use of the queue waited for. None when submitted inline.
+    pub submission_thread_ms: Option<f64>,
     /// Heap allocations the recording thread made before the first pass
     /// (culling, the frame's maps) and after the last one (finishing the
     /// encoders, the submission, the textures handed back: the tail), when
@@ -208,6 +222,8 @@ impl FrameReport {
             submit_ms,
             queue_submit_ms,
             wait_ms,
+            submission_wait_ms,
+            submission_thread_ms,
             allocations_before_passes,
             allocations_after_passes,
         } = from;
@@ -220,6 +236,8 @@ impl FrameReport {
         self.submit_ms = *submit_ms;
         self.queue_submit_ms = *queue_submit_ms;
         self.wait_ms = *wait_ms;
+        self.submission_wait_ms = *submission_wait_ms;
+        self.submission_thread_ms = *submission_thread_ms;
         self.allocations_before_passes = *allocations_before_passes;
         self.allocations_after_passes = *allocations_after_passes;
     }

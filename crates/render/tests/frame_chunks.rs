@@ -14,7 +14,7 @@ fn target() -> TextureDesc {
 
 /// A copy whose size is not a multiple of 4: wgpu reports it when the
 /// encoder is finished, on whichever thread finishes it.
-fn misaligned_copy(cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+pub(crate) fn misaligned_copy(cx: &mut PassContext<'_>) -> Result<(), RenderError> {
     let buffer = |label| {
         cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
@@ -30,7 +30,7 @@ fn misaligned_copy(cx: &mut PassContext<'_>) -> Result<(), RenderError> {
 
 /// `passes` independent passes (node ids 0..), the one at `broken` recording
 /// an invalid copy; every output requested so none is culled.
-fn frame(renderer: &Renderer, passes: usize, broken: Option<usize>) -> FrameReport {
+pub(crate) fn frame(renderer: &Renderer, passes: usize, broken: Option<usize>) -> FrameReport {
     let mut fg = FrameGraph::new((4, 4));
     let names: Vec<String> = (0..passes).map(|i| format!("pass {i}")).collect();
     for (i, name) in names.iter().enumerate() {

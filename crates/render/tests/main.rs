@@ -43,6 +43,7 @@ mod shadow_layers;
 mod shadows;
 mod ssr;
 mod ssr_hi_z;
+mod submission_thread;
 mod surface_lighting;
 mod taa;
 mod tonemap;

@@ -27,6 +27,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 use super::finisher::chunk_of;
+use super::submitter::{Job, Outcome, Submission};
 use super::{FrameGraph, Lifetime, PassContext, PassOrder, Recorded};
 use crate::allocation_count;
 use crate::context::GpuContext;
@@ -74,6 +75,15 @@ fn execute(
     counters: impl FnOnce() -> Vec<(&'static str, u64)>,
     then: impl FnOnce(&HashMap<String, wgpu::Texture>) -> Vec<wgpu::CommandBuffer>,
 ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
+    // The frame before, if the submission thread still owes its submission,
+    // is submitted before this one records (submitter.rs); what it found
+    // out goes into this frame's report.
+    executor.submitter().wait();
+    let before = executor.submitter().take();
+    if before.as_ref().is_some_and(|o| o.validation_failed) {
+        executor.set_recording(Recording::Isolated);
+    }
+    let submission_wait = executor.submission_wait_since_last_frame();
     let started = std::time::Instant::now();
     let allocations_started = allocation_count::now();
     let (timing, recording) = executor.settings();
@@ -151,8 +161,22 @@ fn execute(
     let mut fresh = FxHashSet::default();
     let mut report = FrameReport {
         adapter: gpu.adapter_name(),
+        submission_wait_ms: submission_wait.as_secs_f64() * 1e3,
         ..Default::default()
     };
+    if let Some(before) = before {
+        // Its time only where this frame goes to the thread too (an inline frame reports none).
+        let threaded = executor.submission().on(gpu.adapter_class()) == Submission::Thread;
+        land(
+            executor,
+            &mut report,
+            before,
+            "the frame before, at its submission: ",
+        );
+        if !threaded {
+            report.submission_thread_ms = None;
+        }
+    }
     for (name, n) in planned.counters {
         add_counter(&mut report, name, n);
     }
@@ -481,52 +505,6 @@ fn execute(
             commands.push(encoder.finish());
         }
     }
-    if let (Some(encoder), Some(scope), Some(finishing)) = (shared, frame_scope, finishing) {
-        let last = encoder.finish();
-        let here = pollster::block_on(scope.pop());
-        let sent = finishing.sent() as u64;
-        let collected = finishing.collect();
-        for (name, n) in [
-            ("command encoders handed over", sent),
-            ("command encoders taken back", collected.taken_back as u64),
-        ] {
-            if n > 0 {
-                add_counter(&mut report, name, n);
-            }
-        }
-        // The runs handed over come first: their errors are the earlier.
-        let dropped = match collected.finished {
-            Some(finished) => {
-                let mut first = None;
-                for (buffer, error) in finished {
-                    commands.push(buffer);
-                    first = first.or(error);
-                }
-                commands.push(last);
-                first.or(here).map(|e| {
-                    // From now on passes record apart, so the next frame names the pass.
-                    executor.set_recording(Recording::Isolated);
-                    format!(
-                        "the frame failed validation and was dropped; passes record separately from now on: {e}"
-                    )
-                })
-            }
-            None => Some(
-                "finishing a command encoder of the frame panicked; the frame was dropped"
-                    .to_owned(),
-            ),
-        };
-        // A batched frame that fails is dropped whole.
-        if let Some(message) = dropped {
-            report.errors.push((None, message));
-            commands.clear();
-            pass_queries.clear();
-            next_query = 0;
-        }
-    }
-    if !commands.is_empty() {
-        add_counter(&mut report, "command buffers", commands.len() as u64);
-    }
     // The textures handed back, known before the submit so the host's own
     // commands that read them (the editor's blits into its viewport and
     // thumbnails) go in the frame's submission: each submission may wait
@@ -554,12 +532,92 @@ fn execute(
             host_commands.len() as u64,
         );
     }
-    commands.extend(host_commands);
-    let submitting = std::time::Instant::now();
-    let submission = gpu.submit(commands);
-    report.queue_submit_ms = submitting.elapsed().as_secs_f64() * 1e3;
+    // Whether this frame's timestamps are read back (it waits for the GPU).
+    let timed = timestamps.is_some() && next_query > 0;
+    // With a submission thread, the tail goes there (submitter.rs).
+    let threaded = executor.submission().on(gpu.adapter_class()) == Submission::Thread;
+    let mut job = None;
+    if let (Some(encoder), Some(scope), Some(finishing)) = (shared, frame_scope, finishing) {
+        if threaded {
+            // Scopes are per thread: this one ends here, with what the
+            // recording raised; the last run's `finish` gets its own there.
+            let recording_error = pollster::block_on(scope.pop());
+            let sent = finishing.sent() as u64;
+            if sent > 0 {
+                add_counter(&mut report, "command encoders handed over", sent);
+            }
+            job = Some(Job {
+                finishing: Some(finishing),
+                last: Some(encoder),
+                finished: Vec::new(),
+                recording_error,
+                host: Vec::new(),
+                throttle: None,
+            });
+        } else {
+            let dropped = finish_here(
+                executor,
+                &mut report,
+                (encoder, scope, finishing),
+                &mut commands,
+            );
+            if dropped {
+                pass_queries.clear();
+                next_query = 0;
+            }
+        }
+    } else if threaded {
+        job = Some(Job {
+            finishing: None,
+            last: None,
+            finished: std::mem::take(&mut commands),
+            recording_error: None,
+            host: Vec::new(),
+            throttle: None,
+        });
+    }
+    let mut submission = None;
+    // The frame's own outcome, where it was submitted on the thread and
+    // waits for it, or submitted here for want of a thread.
+    let mut own = None;
+    match job {
+        Some(mut job) => {
+            job.host = host_commands;
+            job.throttle = (!timed).then_some(FRAMES_IN_FLIGHT);
+            if let Some(mut job) = executor.submitter().send(gpu, job) {
+                // No thread could start: the same tail, here.
+                job.throttle = None;
+                let outcome = super::submitter::submit(gpu, job, &mut Default::default());
+                submission = outcome.submission.clone();
+                own = Some(outcome);
+            }
+        }
+        None => {
+            if !commands.is_empty() {
+                add_counter(&mut report, "command buffers", commands.len() as u64);
+            }
+            commands.extend(host_commands);
+            let submitting = std::time::Instant::now();
+            submission = Some(gpu.submit(commands));
+            report.queue_submit_ms = submitting.elapsed().as_secs_f64() * 1e3;
+        }
+    }
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;
     report.submit_ms = (started.elapsed() - passes_recorded).as_secs_f64() * 1e3;
+    // A timed frame waits for its own submission, whose timestamps it
+    // reads, and whose outcome is its report's (on an adapter without
+    // timestamps too, so a timed frame's report is whole everywhere).
+    if threaded && timing != Timing::Off && own.is_none() {
+        executor.submitter().wait();
+        own = executor.submitter().take();
+    }
+    if let Some(outcome) = own {
+        if outcome.dropped {
+            pass_queries.clear();
+            next_query = 0;
+        }
+        land(executor, &mut report, outcome, "");
+    }
 
     if let (Some(ts), true) = (timestamps, next_query > 0) {
         let ticks = crate::context::read_buffer(gpu, &ts.readback, u64::from(next_query) * 8)?;
@@ -603,7 +661,7 @@ fn execute(
         }
         // Timing::Frame measures the span only: a sum of two passes means nothing.
         report.gpu_ms = (timing == Timing::PerPass).then_some(total);
-    } else {
+    } else if let Some(submission) = submission {
         executor.throttle(submission, FRAMES_IN_FLIGHT)?;
     }
 
@@ -656,6 +714,8 @@ fn execute(
     live.clear();
     *plan.live.lock().unwrap_or_else(|e| e.into_inner()) = live;
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
+    // A timed frame's wait for its own submission is in `wait_ms`, not the next frame's.
+    executor.submission_wait_since_last_frame();
     report.allocations_after_passes = allocation_count::since(tail_allocations);
     // Errors outside every pass's scope (allocating the frame's textures,
     // or work done before it that no host took): the frame's, not a panic.
@@ -666,6 +726,83 @@ fn execute(
     }
     executor.set_last_report(&report);
     Ok((report, outputs))
+}
+
+/// A batched frame's tail on the recording thread: finish the last run's
+/// encoder, close the frame's error scope and collect the runs the finishing
+/// thread encoded, into `commands`. A frame that fails is dropped whole:
+/// true, with its error in the report and `commands` empty.
+fn finish_here(
+    executor: &Executor,
+    report: &mut FrameReport,
+    (encoder, scope, finishing): (
+        wgpu::CommandEncoder,
+        wgpu::ErrorScopeGuard,
+        super::finisher::Finishing,
+    ),
+    commands: &mut Vec<wgpu::CommandBuffer>,
+) -> bool {
+    let last = encoder.finish();
+    let here = pollster::block_on(scope.pop());
+    let sent = finishing.sent() as u64;
+    let collected = finishing.collect();
+    for (name, n) in [
+        ("command encoders handed over", sent),
+        ("command encoders taken back", collected.taken_back as u64),
+    ] {
+        if n > 0 {
+            add_counter(report, name, n);
+        }
+    }
+    // The runs handed over come first: their errors are the earlier.
+    let dropped = match collected.finished {
+        Some(finished) => {
+            let mut first = None;
+            for (buffer, error) in finished {
+                commands.push(buffer);
+                first = first.or(error);
+            }
+            commands.push(last);
+            first.or(here).map(|e| {
+                // From now on passes record apart, so the next frame names the pass.
+                executor.set_recording(Recording::Isolated);
+                format!(
+                    "the frame failed validation and was dropped; passes record separately from now on: {e}"
+                )
+            })
+        }
+        None => Some(
+            "finishing a command encoder of the frame panicked; the frame was dropped".to_owned(),
+        ),
+    };
+    match dropped {
+        Some(message) => {
+            report.errors.push((None, message));
+            commands.clear();
+            true
+        }
+        None => false,
+    }
+}
+
+/// Put what a submission on the submission thread found out into `report`:
+/// its errors (each after `about`: which frame's) and the thread's time;
+/// its counters only where it is the report's own frame's (`about` empty:
+/// the frame before's would be counted twice beside this frame's own); and
+/// record apart from now on if its validation failed.
+fn land(executor: &Executor, report: &mut FrameReport, outcome: Outcome, about: &str) {
+    if outcome.validation_failed {
+        executor.set_recording(Recording::Isolated);
+    }
+    for error in outcome.errors {
+        report.errors.push((None, format!("{about}{error}")));
+    }
+    if about.is_empty() {
+        for (name, n) in outcome.counters {
+            add_counter(report, name, n);
+        }
+    }
+    report.submission_thread_ms = Some(outcome.thread_ms);
 }
 
 /// Add `n` to the report's counter `name` (borrowed: no allocation a name).

@@ -9,6 +9,7 @@
 use std::collections::VecDeque;
 use std::sync::Mutex;
 
+use super::submitter::{Submission, Submitter};
 use super::{Finisher, PassOrder};
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -70,8 +71,16 @@ pub struct Executor {
     /// Submissions not yet known to be done, oldest first (`Timing::Off`).
     in_flight: Mutex<VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
+    /// Where frames are submitted (submitter.rs); from [`super::SUBMIT_VAR`] at first.
+    submission: Mutex<Submission>,
+    /// The thread that submits frames with [`Submission::Thread`]; before
+    /// the finisher, so that it is dropped (its last frame submitted) first.
+    submitter: Submitter,
     /// The thread that finishes a batched frame's encoders beside its recording.
     finisher: Finisher,
+    /// The time waited for owed submissions when the last frame returned
+    /// (`FrameReport::submission_wait_ms` is the difference).
+    waited_before: Mutex<std::time::Duration>,
     /// Frame graphs' plans kept across frames (plan.rs).
     plans: super::plan::Plans,
     /// What the last plan's dispatches resolved (kept_bindings.rs).
@@ -113,6 +122,9 @@ impl Executor {
             in_flight: Mutex::new(VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             finisher: Finisher::new(gpu.device.clone()),
+            submission: Mutex::new(Submission::from_env().map_err(RenderError::Graph)?),
+            submitter: Submitter::new(gpu),
+            waited_before: Mutex::new(gpu.queue.owed().waited()),
             plans: Default::default(),
             kept_bindings: Default::default(),
         })
@@ -186,6 +198,48 @@ impl Executor {
         &self.finisher
     }
 
+    /// Where frames are submitted ([`Submission`]).
+    pub fn submission(&self) -> Submission {
+        *self.submission.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Submit frames on the recording thread or on a submission thread;
+    /// a frame still owed is submitted before the next either way.
+    pub fn set_submission(&self, submission: Submission) {
+        *self.submission.lock().unwrap_or_else(|e| e.into_inner()) = submission;
+    }
+
+    pub(crate) fn submitter(&self) -> &Submitter {
+        &self.submitter
+    }
+
+    /// The time waited for owed submissions since the last frame returned;
+    /// the reading is kept for the next frame.
+    pub(crate) fn submission_wait_since_last_frame(&self) -> std::time::Duration {
+        let now = self.submitter.waited();
+        let mut before = self.waited_before.lock().unwrap_or_else(|e| e.into_inner());
+        let since = now.saturating_sub(*before);
+        *before = now;
+        since
+    }
+
+    /// Put the errors of a submission made since the last report into it
+    /// (without waiting for one still owed), and record apart from now on
+    /// if its validation failed, as an inline submission does.
+    fn settle(&self) {
+        if self.submitter.is_owed() {
+            return;
+        }
+        let (errors, failed) = self.submitter.take_errors();
+        if failed {
+            self.set_recording(Recording::Isolated);
+        }
+        if !errors.is_empty() {
+            let mut report = self.last_report.lock().unwrap_or_else(|e| e.into_inner());
+            report.errors.extend(errors.into_iter().map(|e| (None, e)));
+        }
+    }
+
     pub(crate) fn timestamps(&self) -> Option<&Timestamps> {
         self.timestamps.as_ref()
     }
@@ -219,8 +273,12 @@ impl Executor {
         Ok(())
     }
 
-    /// Wait for every submission so far (frames in flight drained).
+    /// Wait for every submission so far (frames in flight drained); the
+    /// errors of a frame submitted on the submission thread go into the
+    /// last report.
     pub fn wait_idle(&self) -> Result<(), RenderError> {
+        self.submitter.wait();
+        self.settle();
         self.in_flight
             .lock()
             .unwrap_or_else(|e| e.into_inner())
@@ -231,8 +289,11 @@ impl Executor {
             .map_err(|e| RenderError::Readback(e.to_string()))
     }
 
-    /// The report of the last executed frame graph.
+    /// The report of the last executed frame graph. With a submission
+    /// thread, its submission's errors are in it once it was submitted
+    /// (this does not wait for it: [`Executor::wait_idle`] does).
     pub fn last_report(&self) -> FrameReport {
+        self.settle();
         self.last_report
             .lock()
             .unwrap_or_else(|e| e.into_inner())
@@ -242,6 +303,7 @@ impl Executor {
     /// The errors of the last executed frame graph, by owner (without
     /// copying the whole report, as [`Executor::last_report`] does).
     pub fn last_errors(&self) -> Vec<(Option<u32>, String)> {
+        self.settle();
         self.last_report
             .lock()
             .unwrap_or_else(|e| e.into_inner())

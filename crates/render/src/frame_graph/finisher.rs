@@ -98,7 +98,9 @@ impl Finisher {
 
     /// The finishing thread for one frame, started if it is not running.
     /// Where no thread can be started, encoders are finished where they are sent.
-    pub fn begin(&self) -> Finishing<'_> {
+    /// The frame's use may move to another thread (the submission thread
+    /// collects it: submitter.rs); the next frame begins once it collected.
+    pub fn begin(&self) -> Finishing {
         let mut worker = self.worker.lock().unwrap_or_else(|e| e.into_inner());
         match worker.as_ref() {
             None => *worker = spawn(self.device.clone()),
@@ -111,8 +113,8 @@ impl Finisher {
             }
         }
         Finishing {
-            device: &self.device,
-            worker,
+            device: self.device.clone(),
+            shared: worker.as_ref().map(|w| w.shared.clone()),
             sent: 0,
             here: Vec::new(),
         }
@@ -191,9 +193,10 @@ fn finish(device: &wgpu::Device, encoder: wgpu::CommandEncoder) -> Finished {
 }
 
 /// One frame's use of the finishing thread: encoders handed over, in order.
-pub(crate) struct Finishing<'a> {
-    device: &'a wgpu::Device,
-    worker: MutexGuard<'a, Option<Worker>>,
+pub(crate) struct Finishing {
+    device: wgpu::Device,
+    /// The finishing thread's state; None where no thread could start.
+    shared: Option<Arc<Shared>>,
     sent: usize,
     /// Encoders finished on this thread (no finishing thread could start).
     here: Vec<Finished>,
@@ -209,22 +212,22 @@ pub(crate) struct Collected {
     pub taken_back: usize,
 }
 
-impl Finishing<'_> {
+impl Finishing {
     /// Hand `encoder` to the finishing thread while the caller records on.
     pub fn send(&mut self, encoder: wgpu::CommandEncoder) {
         self.sent += 1;
-        let Some(worker) = self.worker.as_ref() else {
-            self.here.push(finish(self.device, encoder));
+        let Some(shared) = self.shared.as_ref() else {
+            self.here.push(finish(&self.device, encoder));
             return;
         };
-        let mut state = lock(&worker.shared);
+        let mut state = lock(shared);
         let place = state.results.len();
         state.results.push(Slot::Pending);
         state.jobs.push_back((place, encoder));
         let asleep = state.worker_asleep;
         drop(state);
         if asleep {
-            worker.shared.queued.notify_one();
+            shared.queued.notify_one();
         }
     }
 
@@ -238,18 +241,17 @@ impl Finishing<'_> {
     /// than waited for, so a frame never takes longer than finishing all on
     /// the recording thread would, beyond waiting for the one in progress.
     pub fn collect(self) -> Collected {
-        let Some(worker) = self.worker.as_ref() else {
+        let Some(shared) = self.shared.as_ref() else {
             return Collected {
                 taken_back: self.here.len(),
                 finished: Some(self.here),
             };
         };
-        let shared = &worker.shared;
         let mut taken_back = 0;
         let mut state = lock(shared);
         while let Some((place, encoder)) = state.jobs.pop_front() {
             drop(state);
-            let done = finish(self.device, encoder);
+            let done = finish(&self.device, encoder);
             taken_back += 1;
             state = lock(shared);
             state.results[place] = Slot::Done(done);

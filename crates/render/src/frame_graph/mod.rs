@@ -32,6 +32,7 @@ mod kept_bindings;
 mod live;
 mod merge;
 mod plan;
+mod submitter;
 #[cfg(test)]
 mod tests;
 mod waves;
@@ -51,6 +52,7 @@ pub(crate) use finisher::Finisher;
 pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
 pub use kept_bindings::{BIND_GROUPS_KEPT, PIPELINES_KEPT};
+pub use submitter::{SUBMIT_VAR, Submission};
 pub use waves::{PASS_ORDER_VAR, PASS_WAVES, PassOrder};
 
 /// What every texture a frame hands back to its caller can do, so that any
