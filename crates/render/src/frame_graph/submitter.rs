@@ -37,15 +37,17 @@ pub const SUBMIT_VAR: &str = "SPREADLIGHT_SUBMIT";
 /// Where a frame's tail (finishing the last encoders, the queue's submit) runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Submission {
-    /// On the recording thread, before the frame returns (the default
-    /// until the H200 decides: docs/benchmarks.md, "cpu22").
-    #[default]
+    /// On the recording thread, before the frame returns.
     Inline,
     /// On a submission thread, while the recording thread goes on.
     Thread,
     /// `Thread` on a GPU, `Inline` on a CPU adapter: there the GPU's work
     /// is CPU work too (lavapipe renders inside the submission), and a
-    /// thread more only competes for the same cores.
+    /// thread more only competes for the same cores. The default: on the
+    /// H200 the thread took post.ron's recording thread from 0.79-0.82 to
+    /// 0.50-0.65 ms a frame at the same frame time (docs/benchmarks.md,
+    /// "Session 22 on the H200").
+    #[default]
     Auto,
 }
 
@@ -59,7 +61,7 @@ impl Submission {
         }
     }
 
-    /// What [`SUBMIT_VAR`] says, `Inline` when unset; an error naming the
+    /// What [`SUBMIT_VAR`] says, `Auto` when unset; an error naming the
     /// variable for a value it does not know (a benchmark must not measure
     /// another setting than the one asked for).
     pub fn from_env() -> Result<Submission, String> {
@@ -358,7 +360,7 @@ mod tests {
         assert_eq!(Submission::parse("inline"), Some(Submission::Inline));
         assert_eq!(Submission::parse("auto"), Some(Submission::Auto));
         assert_eq!(Submission::parse("later"), None);
-        assert_eq!(Submission::default(), Submission::Inline);
+        assert_eq!(Submission::default(), Submission::Auto);
         assert_eq!(Submission::Auto.on(Gpu), Submission::Thread);
         assert_eq!(Submission::Auto.on(Cpu), Submission::Inline);
         for s in [Submission::Inline, Submission::Thread] {
