@@ -353,11 +353,7 @@ fn upsample(
     io: &UpsampleIo,
 ) -> Result<(), RenderError> {
     // R32 is AO's; the detail is depth of field's, in RGBA16F.
-    let key = match (format, io.detail) {
-        (UpsampleFormat::R32, _) => UpsampleKey::R32,
-        (UpsampleFormat::Rgba16, Some(_)) => UpsampleKey::Detail,
-        (UpsampleFormat::Rgba16, None) => UpsampleKey::Rgba16,
-    };
+    let key = upsample_key(format, io.detail.is_some());
     let mut b = Bindings::new()
         .buffer("camera", gbuffer.camera_buffer())
         .texture("depth", io.depth)
@@ -401,6 +397,16 @@ pub struct UpsamplePass<'s, 'g> {
     pub detail: Option<(&'s str, &'s str)>,
 }
 
+/// The upsample's permutation for a target of `format`, with or without
+/// depth of field's detail.
+fn upsample_key(format: UpsampleFormat, detail: bool) -> UpsampleKey {
+    match (format, detail) {
+        (UpsampleFormat::R32, _) => UpsampleKey::R32,
+        (UpsampleFormat::Rgba16, true) => UpsampleKey::Detail,
+        (UpsampleFormat::Rgba16, false) => UpsampleKey::Rgba16,
+    }
+}
+
 /// At Half, declare the depth-aware upsample of `half` into `full`
 /// (nothing at Full, where the pass wrote `full` itself).
 pub fn declare_upsample<'a>(
@@ -422,6 +428,9 @@ pub fn declare_upsample<'a>(
             .map(|(image, coc)| (pass.read(image), pass.read(coc))),
         output: pass.write(u.full, u.desc),
     };
+    // Announced, so a first frame finds its pipeline made on a thread
+    // (frame_graph/gather.rs); SSR's and DOF's half paths come through here.
+    pass.will_dispatch(&upsample_key(u.format, u.detail.is_some()).key(), "main");
     let (gbuffer, format, counter, label) = (u.gbuffer, u.format, u.counter, u.label);
     pass.run(move |cx| {
         cx.count(counter, 1);
