@@ -399,7 +399,8 @@ fn accuracy_images_go_under_a_folder_named_for_the_effect() {
     };
     assert_eq!(listing(dir.path()), ["accuracy-images"]);
     assert_eq!(listing(&dir.path().join("accuracy-images")), ["ao"]);
-    // The reference, and each estimator with temporal off and on.
+    // The reference, and each estimator with temporal off and on (SSGI's
+    // gathered share among them, as `accuracy ao` measures it).
     assert_eq!(
         listing(&dir.path().join("accuracy-images/ao")),
         [
@@ -407,6 +408,8 @@ fn accuracy_images_go_under_a_folder_named_for_the_effect() {
             "HBAO-4-temporal-Full.png",
             "SAO-4-Full.png",
             "SAO-4-temporal-Full.png",
+            "SSGI-4-Full.png",
+            "SSGI-4-temporal-Full.png",
             "Stochastic-4-Full.png",
             "Stochastic-4-temporal-Full.png",
             "reference.png",
