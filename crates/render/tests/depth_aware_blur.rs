@@ -7,12 +7,15 @@
 //! choice, crate::packed_surface); the last test holds them to the G-buffer
 //! way within the packed normal's error.
 
+use std::sync::Arc;
+
 use crate::occlusion_scene;
 
 use glam::Vec3;
 use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
 use spreadlight_render::frame_graph::FrameGraph;
+use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
 use spreadlight_render::packed_surface::{
     PACKED_SURFACES, PASS_STEP, Reader, SurfaceInputs, set_inputs,
@@ -211,6 +214,33 @@ fn assert_passes(report: &FrameReport, radius: u32, what: &str) {
     }
 }
 
+/// The AO node of `settings` (node 7) and, with `combine`, an unblurred
+/// full-resolution HBAO (node 8) that its last pass multiplies in.
+fn ao_node(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    settings: AoSettings,
+    combine: bool,
+) -> (Arc<AmbientOcclusion>, Option<Arc<AmbientOcclusion>>) {
+    let other = combine.then(|| {
+        let hbao = AoSettings {
+            mode: AoMode::Hbao,
+            blur_radius: 0,
+            resolution: Resolution::Full,
+            ..settings
+        };
+        AmbientOcclusion::new(renderer, Some(8), g.clone(), hbao, None)
+    });
+    let ao = AmbientOcclusion::new(
+        renderer,
+        Some(7),
+        g.clone(),
+        settings,
+        other.as_ref().map(|o| o.texture()),
+    );
+    (ao, other)
+}
+
 #[test]
 fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
     // The same node id on a new renderer: the same frame index, the same noise.
@@ -226,22 +256,7 @@ fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
             blur_radius,
             ..Default::default()
         };
-        // HBAO unblurred, multiplied in by the last pass.
-        let other = combine.then(|| {
-            let hbao = AoSettings {
-                mode: AoMode::Hbao,
-                blur_radius: 0,
-                ..settings
-            };
-            AmbientOcclusion::new(&renderer, Some(8), g.clone(), hbao, None)
-        });
-        let ao = AmbientOcclusion::new(
-            &renderer,
-            Some(7),
-            g.clone(),
-            settings,
-            other.as_ref().map(|o| o.texture()),
-        );
+        let (ao, other) = ao_node(&renderer, &g, settings, combine);
         let mut read = vec![ao.output.as_str(), &g.targets.depth, &g.targets.normals];
         read.extend(other.as_ref().map(|o| o.output.as_str()));
         let (report, images) =
@@ -545,22 +560,7 @@ fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
             resolution: Resolution::Half,
             ..Default::default()
         };
-        let other = combine.then(|| {
-            let hbao = AoSettings {
-                mode: AoMode::Hbao,
-                blur_radius: 0,
-                resolution: Resolution::Full,
-                ..settings
-            };
-            AmbientOcclusion::new(&renderer, Some(8), g.clone(), hbao, None)
-        });
-        let ao = AmbientOcclusion::new(
-            &renderer,
-            Some(7),
-            g.clone(),
-            settings,
-            other.as_ref().map(|o| o.texture()),
-        );
+        let (ao, other) = ao_node(&renderer, &g, settings, combine);
         let [raw, blurred] = ao.half_targets();
         let mut read = vec![
             raw.as_str(),

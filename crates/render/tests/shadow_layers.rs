@@ -10,18 +10,16 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
-use spreadlight_render::lighting::{
-    CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
-};
-use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::gbuffer::{Layer, RasterChoice};
+use spreadlight_render::lighting::{LightBuffer, PointLight, SpotLight, SunLight};
+use spreadlight_render::readback::ImageF32;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{
     Cascades, ShadowFilter, ShadowLayers, ShadowLights, ShadowMaps, ShadowSettings,
     set_shadow_layers,
 };
-use spreadlight_render::{FrameReport, Renderer, SizeRule};
+use spreadlight_render::{FrameReport, Renderer};
 
 const SIZE: (u32, u32) = (48, 48);
 /// Small maps: the compute rasterizer runs on the CPU here (lavapipe).
@@ -52,42 +50,7 @@ fn shade(
     lights: Arc<LightBuffer>,
     shadows: Arc<ShadowMaps>,
 ) -> (ImageF32, FrameReport) {
-    let g = GBuffer::new(
-        renderer,
-        None,
-        layers.to_vec(),
-        camera,
-        None,
-        SizeRule::Relative(1.0),
-    );
-    let ct = CookTorrance::with_shadows(
-        renderer,
-        Some(1),
-        g,
-        lights,
-        LightLoop::Naive,
-        true,
-        Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
-        Some(shadows),
-    );
-    let (report, images) =
-        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
-            .expect("renders");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let pixels = images[0]
-        .pixels
-        .iter()
-        .zip(&images[1].pixels)
-        .map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2], 1.0])
-        .collect();
-    (
-        ImageF32 {
-            width: images[0].width,
-            height: images[0].height,
-            pixels,
-        },
-        report,
-    )
+    super::shadows::shade_sized(renderer, camera, layers, lights, Some(shadows), SIZE)
 }
 
 /// A frame of `casting`'s maps kept under `owner`, drawn by the compute

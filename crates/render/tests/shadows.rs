@@ -61,6 +61,18 @@ fn shade_from(
     lights: Arc<LightBuffer>,
     shadows: Option<Arc<ShadowMaps>>,
 ) -> (ImageF32, FrameReport) {
+    shade_sized(renderer, camera, layers, lights, shadows, SIZE)
+}
+
+/// [`shade_from`] at `size` (shadow_layers.rs shades its own scenes with it).
+pub(crate) fn shade_sized(
+    renderer: &Renderer,
+    camera: CameraInput,
+    layers: &[Arc<Layer>],
+    lights: Arc<LightBuffer>,
+    shadows: Option<Arc<ShadowMaps>>,
+    size: (u32, u32),
+) -> (ImageF32, FrameReport) {
     let g = GBuffer::new(
         renderer,
         None,
@@ -80,7 +92,7 @@ fn shade_from(
         shadows,
     );
     let (report, images) =
-        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+        render_and_read(renderer, ct.as_ref(), size, &[&ct.diffuse, &ct.specular])
             .expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let (d, s) = (&images[0], &images[1]);

@@ -65,6 +65,37 @@ struct Targets {
 }
 
 impl Targets {
+    /// The targets in `slot`, made again unless they fit `bytes` of `words`
+    /// and `tile_capacity` tile entries, with the words a raster covers
+    /// cleared (the buffer may be larger) and the tile count reset, in `cx`'s
+    /// encoder: what every raster does first (one view, or all layers).
+    fn ready<'t>(
+        slot: &'t mut Option<Targets>,
+        device: &wgpu::Device,
+        cx: &mut PassContext<'_>,
+        words: Words,
+        bytes: u64,
+        tile_capacity: u32,
+    ) -> Result<&'t Targets, RenderError> {
+        if slot
+            .as_ref()
+            .is_none_or(|t| !t.fits(words, bytes, tile_capacity))
+        {
+            *slot = Some(Targets::new(device, words, bytes, tile_capacity));
+        }
+        let Some(targets) = slot.as_ref() else {
+            return Err(RenderError::Pass {
+                pass: "compute raster".to_owned(),
+                message: "no visibility buffer".to_owned(),
+            });
+        };
+        cx.encoder()
+            .clear_buffer(&targets.visibility, 0, Some(bytes));
+        cx.encoder()
+            .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
+        Ok(targets)
+    }
+
     /// Buffers for `bytes` of `words` and a tile list of `tile_capacity` entries.
     fn new(device: &wgpu::Device, words: Words, bytes: u64, tile_capacity: u32) -> Targets {
         let storage = |label: &str, bytes: u64| {
@@ -361,23 +392,7 @@ impl ComputeRaster {
         let mut guard = self.targets.0.lock().unwrap_or_else(|e| e.into_inner());
         let words = self.words;
         let needed = (u64::from(size.0) * u64::from(size.1) * words.bytes()).max(words.bytes());
-        if guard
-            .as_ref()
-            .is_none_or(|t| !t.fits(words, needed, TILE_CAPACITY))
-        {
-            *guard = Some(Targets::new(&device, words, needed, TILE_CAPACITY));
-        }
-        let Some(targets) = guard.as_ref() else {
-            return Err(RenderError::Pass {
-                pass: "compute raster".to_owned(),
-                message: "no visibility buffer".to_owned(),
-            });
-        };
-        // Only the words this view covers (the buffer may be larger).
-        cx.encoder()
-            .clear_buffer(&targets.visibility, 0, Some(needed));
-        cx.encoder()
-            .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
+        let targets = Targets::ready(&mut guard, &device, cx, words, needed, TILE_CAPACITY)?;
 
         // Back faces kept per draw (double-sided materials) or for all (shadow maps).
         // On a CPU adapter a raster with no particle system fetches its
@@ -480,22 +495,7 @@ impl ComputeRaster {
             None => std::sync::Arc::default(),
         };
         let mut guard = state.0.lock().unwrap_or_else(|e| e.into_inner());
-        if guard
-            .as_ref()
-            .is_none_or(|t| !t.fits(words, needed, tile_capacity))
-        {
-            *guard = Some(Targets::new(&device, words, needed, tile_capacity));
-        }
-        let Some(targets) = guard.as_ref() else {
-            return Err(RenderError::Pass {
-                pass: "compute raster".to_owned(),
-                message: "no visibility buffer".to_owned(),
-            });
-        };
-        cx.encoder()
-            .clear_buffer(&targets.visibility, 0, Some(needed));
-        cx.encoder()
-            .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
+        let targets = Targets::ready(&mut guard, &device, cx, words, needed, tile_capacity)?;
         let particles = self.batches.iter().any(|b| b.procedural);
         let class = cx.gpu.adapter_class();
         let key = RasterKey {

@@ -373,7 +373,8 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ("particles/expand.wgsl", &[], vec![]),
         (
             "gbuffer/raster.wgsl",
-            &["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"],
+            // LAYERED (session 22): a shadow map's layers in one chain.
+            &["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY", "LAYERED"],
             vec![],
         ),
         ("gbuffer/published_depth.wgsl", &["COMPUTE_RASTER"], vec![]),
