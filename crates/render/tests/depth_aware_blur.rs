@@ -289,18 +289,22 @@ fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
     }
 }
 
-#[test]
-fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
-    // Light in stripes of three colours, so the bounce differs from pixel to
-    // pixel and the blur has something to smooth.
-    let lit: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
+/// Light in stripes of three colours, so the bounce differs from pixel to
+/// pixel and the blur has something to smooth, and the sky's colour.
+fn striped_light() -> (Vec<[f32; 4]>, [f32; 3]) {
+    let lit = (0..SIZE.0 * SIZE.1)
         .map(|i| match (i % SIZE.0 / 3) % 3 {
             0 => [2.0, 0.2, 0.1, 1.0],
             1 => [0.1, 1.5, 0.3, 1.0],
             _ => [0.2, 0.3, 3.0, 1.0],
         })
         .collect();
-    let sky = [0.0, 0.1, 0.4];
+    (lit, [0.0, 0.1, 0.4])
+}
+
+#[test]
+fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
+    let (lit, sky) = striped_light();
     let frame = |blur_radius: u32, ambient: bool| {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
@@ -622,14 +626,7 @@ fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
 /// the sky taking the ambient alone.
 #[test]
 fn the_half_chain_ssgi_blur_is_the_gaussian_at_half_size() {
-    let lit: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
-        .map(|i| match (i % SIZE.0 / 3) % 3 {
-            0 => [2.0, 0.2, 0.1, 1.0],
-            1 => [0.1, 1.5, 0.3, 1.0],
-            _ => [0.2, 0.3, 3.0, 1.0],
-        })
-        .collect();
-    let sky = [0.0, 0.1, 0.4];
+    let (lit, sky) = striped_light();
     for (radius, ambient) in [(1u32, false), (4, true), (9, true)] {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
