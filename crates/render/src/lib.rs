@@ -37,6 +37,7 @@ pub mod report;
 pub mod resolution;
 pub(crate) mod resolution_key;
 pub mod scenes;
+pub mod setting;
 pub mod shader_nodes;
 pub mod shaders;
 pub mod shadows;

@@ -206,13 +206,7 @@ impl AutoChoice {
     /// What [`AUTO_VAR`] asks for; unset, the size rule. A value it does not
     /// know is an error naming the variable and the value.
     pub fn from_env() -> Result<Self, String> {
-        match std::env::var(AUTO_VAR) {
-            Err(std::env::VarError::NotPresent) => Ok(AutoChoice::default()),
-            Err(e) => Err(format!("{AUTO_VAR}: {e}")),
-            Ok(value) => Self::parse(&value).ok_or_else(|| {
-                format!("{AUTO_VAR} is `{value}`: it takes `full`, `half` or `size`")
-            }),
-        }
+        crate::setting::from_env(AUTO_VAR, Self::parse, "`full`, `half` or `size`")
     }
 
     /// Auto's resolution for a G-buffer of `pixels`.
@@ -229,56 +223,22 @@ impl AutoChoice {
             }
         }
     }
-
-    fn code(self) -> u8 {
-        match self {
-            AutoChoice::Size => 0,
-            AutoChoice::Full => 1,
-            AutoChoice::Half => 2,
-        }
-    }
-
-    fn from_code(code: u8) -> Self {
-        match code {
-            1 => AutoChoice::Full,
-            2 => AutoChoice::Half,
-            _ => AutoChoice::Size,
-        }
-    }
-}
-
-/// A renderer's [`AutoChoice`], kept in its states (`Renderer::state`), so
-/// tests can force one renderer without an environment variable that would
-/// reach every renderer of the process.
-#[derive(Default)]
-struct AutoState {
-    /// 0: not read from the environment yet; else 1 + the code.
-    code: AtomicU8,
 }
 
 /// What Auto resolves to on `renderer` ([`AUTO_VAR`] until set).
 pub fn auto_choice(renderer: &Renderer) -> AutoChoice {
-    let state = renderer.state::<AutoState>(0);
-    match state.code.load(Ordering::Relaxed) {
-        0 => {
-            let choice = AutoChoice::from_env().unwrap_or_else(|e| {
-                // Not fatal: the frame renders either way; the rule stands.
-                eprintln!("warning: {e}; Auto follows the frame size");
-                AutoChoice::default()
-            });
-            state.code.store(1 + choice.code(), Ordering::Relaxed);
-            choice
-        }
-        code => AutoChoice::from_code(code - 1),
-    }
+    crate::setting::get(renderer, 0, || {
+        AutoChoice::from_env().unwrap_or_else(|e| {
+            // Not fatal: the frame renders either way; the rule stands.
+            eprintln!("warning: {e}; Auto follows the frame size");
+            AutoChoice::default()
+        })
+    })
 }
 
 /// Make Auto resolve as `choice` on `renderer` from the next frame on.
 pub fn set_auto_choice(renderer: &Renderer, choice: AutoChoice) {
-    renderer
-        .state::<AutoState>(0)
-        .code
-        .store(1 + choice.code(), Ordering::Relaxed);
+    crate::setting::set(renderer, 0, choice);
 }
 
 /// A recipe's resolution as it resolved when it last declared its passes,
@@ -544,7 +504,6 @@ mod tests {
         assert_eq!(Resolution::default(), Resolution::Auto);
         for c in [AutoChoice::Size, AutoChoice::Full, AutoChoice::Half] {
             assert_eq!(AutoChoice::parse(c.name()), Some(c));
-            assert_eq!(AutoChoice::from_code(c.code()), c);
         }
         assert_eq!(AutoChoice::parse("quarter"), None);
     }

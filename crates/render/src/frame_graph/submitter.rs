@@ -65,13 +65,11 @@ impl Submission {
     /// variable for a value it does not know (a benchmark must not measure
     /// another setting than the one asked for).
     pub fn from_env() -> Result<Submission, String> {
-        match std::env::var(SUBMIT_VAR) {
-            Err(std::env::VarError::NotPresent) => Ok(Submission::default()),
-            Err(e) => Err(format!("{SUBMIT_VAR}: {e}")),
-            Ok(text) => Submission::parse(&text).ok_or_else(|| {
-                format!("{SUBMIT_VAR} is `{text}`: it takes `inline`, `thread` or `auto`")
-            }),
-        }
+        crate::setting::from_env(
+            SUBMIT_VAR,
+            Submission::parse,
+            "`inline`, `thread` or `auto`",
+        )
     }
 
     /// The setting taken on an adapter of `class`: `Auto` resolved.

@@ -98,13 +98,7 @@ impl PassOrder {
     /// does not know is an error naming the variable and the value (a
     /// benchmark must not measure another order than the one it was asked).
     pub fn from_env() -> Result<Self, String> {
-        match std::env::var(PASS_ORDER_VAR) {
-            Err(std::env::VarError::NotPresent) => Ok(PassOrder::default()),
-            Err(e) => Err(format!("{PASS_ORDER_VAR}: {e}")),
-            Ok(value) => Self::parse(&value).ok_or_else(|| {
-                format!("{PASS_ORDER_VAR} is `{value}`: it takes `declared`, `waves` or `auto`")
-            }),
-        }
+        crate::setting::from_env(PASS_ORDER_VAR, Self::parse, "`declared`, `waves` or `auto`")
     }
 }
 

@@ -33,8 +33,6 @@
 //! [`MARCH_INPUTS_VAR`] at first, so a benchmark measures every way in one
 //! device call.
 
-use std::sync::atomic::{AtomicU8, Ordering};
-
 use crate::frame_graph::{FrameGraph, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::renderer::Renderer;
@@ -97,27 +95,7 @@ impl SurfaceInputs {
     /// What the environment variable `var` asks for; unset, the default. A
     /// value it does not know is an error naming the variable and the value.
     pub fn from_env(var: &str) -> Result<Self, String> {
-        match std::env::var(var) {
-            Err(std::env::VarError::NotPresent) => Ok(SurfaceInputs::default()),
-            Err(e) => Err(format!("{var}: {e}")),
-            Ok(value) => Self::parse(&value)
-                .ok_or_else(|| format!("{var} is `{value}`: it takes `packed` or `gbuffer`")),
-        }
-    }
-
-    fn code(self) -> u8 {
-        match self {
-            SurfaceInputs::Packed => 0,
-            SurfaceInputs::GBuffer => 1,
-        }
-    }
-
-    fn from_code(code: u8) -> Self {
-        if code == 1 {
-            SurfaceInputs::GBuffer
-        } else {
-            SurfaceInputs::Packed
-        }
+        crate::setting::from_env(var, Self::parse, "`packed` or `gbuffer`")
     }
 }
 
@@ -146,36 +124,20 @@ impl Reader {
     }
 }
 
-/// A renderer's choice for one [`Reader`], kept in its states (`Renderer::state`).
-#[derive(Default)]
-struct Choice {
-    /// 0: not read from the environment yet; else 1 + the code.
-    code: AtomicU8,
-}
-
 /// What `renderer`'s `reader` reads (its variable until set).
 pub fn inputs(renderer: &Renderer, reader: Reader) -> SurfaceInputs {
-    let choice = renderer.state::<Choice>(reader.key());
-    match choice.code.load(Ordering::Relaxed) {
-        0 => {
-            let inputs = SurfaceInputs::from_env(reader.var()).unwrap_or_else(|e| {
-                // Not fatal: the frame renders either way; the default stands.
-                eprintln!("warning: {e}; the packed surface is read");
-                SurfaceInputs::default()
-            });
-            choice.code.store(1 + inputs.code(), Ordering::Relaxed);
-            inputs
-        }
-        code => SurfaceInputs::from_code(code - 1),
-    }
+    crate::setting::get(renderer, reader.key(), || {
+        SurfaceInputs::from_env(reader.var()).unwrap_or_else(|e| {
+            // Not fatal: the frame renders either way; the default stands.
+            eprintln!("warning: {e}; the packed surface is read");
+            SurfaceInputs::default()
+        })
+    })
 }
 
 /// Pick what `renderer`'s `reader` reads from the next frame on.
 pub fn set_inputs(renderer: &Renderer, reader: Reader, inputs: SurfaceInputs) {
-    renderer
-        .state::<Choice>(reader.key())
-        .code
-        .store(1 + inputs.code(), Ordering::Relaxed);
+    crate::setting::set(renderer, reader.key(), inputs);
 }
 
 /// The packed surface's two targets (frame-graph names).
@@ -226,7 +188,6 @@ mod tests {
     fn names_round_trip() {
         for inputs in [SurfaceInputs::Packed, SurfaceInputs::GBuffer] {
             assert_eq!(SurfaceInputs::parse(inputs.name()), Some(inputs));
-            assert_eq!(SurfaceInputs::from_code(inputs.code()), inputs);
         }
         assert_eq!(
             SurfaceInputs::parse(" GBuffer "),

@@ -3,8 +3,6 @@
 //! [`SHADOW_LAYERS_VAR`] or per renderer by [`set_shadow_layers`], so one
 //! binary measures both.
 
-use std::sync::Mutex;
-
 use crate::renderer::Renderer;
 
 /// How the compute rasterizer draws the layers a frame renders.
@@ -46,32 +44,19 @@ impl ShadowLayers {
     /// What [`SHADOW_LAYERS_VAR`] asks for; unset, the default. A value it
     /// does not know is an error naming the variable and the value.
     pub fn from_env() -> Result<Self, String> {
-        match std::env::var(SHADOW_LAYERS_VAR) {
-            Err(std::env::VarError::NotPresent) => Ok(ShadowLayers::default()),
-            Err(e) => Err(format!("{SHADOW_LAYERS_VAR}: {e}")),
-            Ok(value) => Self::parse(&value).ok_or_else(|| {
-                format!("{SHADOW_LAYERS_VAR} is `{value}`: it takes `each` or `together`")
-            }),
-        }
+        crate::setting::from_env(SHADOW_LAYERS_VAR, Self::parse, "`each` or `together`")
     }
 }
 
-/// A renderer's setting, kept as its state (`Renderer::state`): unset, the
-/// environment's (an unknown value there counts as the default).
-#[derive(Default)]
-struct LayersSetting(Mutex<Option<ShadowLayers>>);
-
-/// The renderer's [`ShadowLayers`].
+/// The renderer's [`ShadowLayers`]: as set, else the environment's (an
+/// unknown value there counts as the default).
 pub fn shadow_layers(renderer: &Renderer) -> ShadowLayers {
-    let setting = renderer.state::<LayersSetting>(0);
-    let mut chosen = setting.0.lock().unwrap_or_else(|e| e.into_inner());
-    *chosen.get_or_insert_with(|| ShadowLayers::from_env().unwrap_or_default())
+    crate::setting::get(renderer, 0, || ShadowLayers::from_env().unwrap_or_default())
 }
 
 /// Set the renderer's [`ShadowLayers`] (for shadow recipes made from now on).
 pub fn set_shadow_layers(renderer: &Renderer, layers: ShadowLayers) {
-    let setting = renderer.state::<LayersSetting>(0);
-    *setting.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(layers);
+    crate::setting::set(renderer, 0, layers);
 }
 
 #[cfg(test)]

@@ -34,7 +34,7 @@ mod source;
 mod sums;
 
 use std::hash::{Hash, Hasher};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 pub use source::MAX_SETS;
 pub use sums::{
@@ -103,33 +103,24 @@ impl LightFusion {
     /// What [`LIGHT_FUSION_VAR`] asks for; unset, the default. A value it
     /// does not know is an error naming the variable and the value.
     pub fn from_env() -> Result<Self, String> {
-        match std::env::var(LIGHT_FUSION_VAR) {
-            Err(std::env::VarError::NotPresent) => Ok(LightFusion::default()),
-            Err(e) => Err(format!("{LIGHT_FUSION_VAR}: {e}")),
-            Ok(value) => Self::parse(&value).ok_or_else(|| {
-                format!("{LIGHT_FUSION_VAR} is `{value}`: it takes `separate`, `fused` or `auto`")
-            }),
-        }
+        crate::setting::from_env(
+            LIGHT_FUSION_VAR,
+            Self::parse,
+            "`separate`, `fused` or `auto`",
+        )
     }
 }
 
-/// A renderer's setting, kept as its state (`Renderer::state`): unset, the
-/// environment's (an unknown value there counts as the default; `bench`
-/// refuses it before it measures anything).
-#[derive(Default)]
-struct FusionSetting(Mutex<Option<LightFusion>>);
-
-/// The renderer's [`LightFusion`].
+/// The renderer's [`LightFusion`]: as set, else the environment's (an
+/// unknown value there counts as the default; `bench` refuses it before it
+/// measures anything).
 pub fn light_fusion(renderer: &Renderer) -> LightFusion {
-    let setting = renderer.state::<FusionSetting>(0);
-    let mut chosen = setting.0.lock().unwrap_or_else(|e| e.into_inner());
-    *chosen.get_or_insert_with(|| LightFusion::from_env().unwrap_or_default())
+    crate::setting::get(renderer, 0, || LightFusion::from_env().unwrap_or_default())
 }
 
 /// Set the renderer's [`LightFusion`] (from the next frame graph declared on).
 pub fn set_light_fusion(renderer: &Renderer, fusion: LightFusion) {
-    let setting = renderer.state::<FusionSetting>(0);
-    *setting.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(fusion);
+    crate::setting::set(renderer, 0, fusion);
 }
 
 /// What the bindings of one set use, against the device's per-stage limits.

@@ -23,8 +23,6 @@
 //! states the error). The switch: [`LightSums`], `SPREADLIGHT_LIGHT_SUMS`,
 //! `bench --light-sums`; it applies where light sets fuse ([`super::LightFusion`]).
 
-use std::sync::Mutex;
-
 use super::cook_torrance;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
@@ -68,31 +66,19 @@ impl LightSums {
     /// What [`LIGHT_SUMS_VAR`] asks for; unset, the default. A value it
     /// does not know is an error naming the variable and the value.
     pub fn from_env() -> Result<Self, String> {
-        match std::env::var(LIGHT_SUMS_VAR) {
-            Err(std::env::VarError::NotPresent) => Ok(LightSums::default()),
-            Err(e) => Err(format!("{LIGHT_SUMS_VAR}: {e}")),
-            Ok(value) => Self::parse(&value)
-                .ok_or_else(|| format!("{LIGHT_SUMS_VAR} is `{value}`: it takes `on` or `off`")),
-        }
+        crate::setting::from_env(LIGHT_SUMS_VAR, Self::parse, "`on` or `off`")
     }
 }
 
-/// A renderer's setting, kept as its state: unset, the environment's (an
-/// unknown value there counts as the default; `bench` refuses it first).
-#[derive(Default)]
-struct SumsSetting(Mutex<Option<LightSums>>);
-
-/// The renderer's [`LightSums`].
+/// The renderer's [`LightSums`]: as set, else the environment's (an unknown
+/// value there counts as the default; `bench` refuses it first).
 pub fn light_sums(renderer: &Renderer) -> LightSums {
-    let setting = renderer.state::<SumsSetting>(0);
-    let mut chosen = setting.0.lock().unwrap_or_else(|e| e.into_inner());
-    *chosen.get_or_insert_with(|| LightSums::from_env().unwrap_or_default())
+    crate::setting::get(renderer, 0, || LightSums::from_env().unwrap_or_default())
 }
 
 /// Set the renderer's [`LightSums`] (from the next frame graph declared on).
 pub fn set_light_sums(renderer: &Renderer, sums: LightSums) {
-    let setting = renderer.state::<SumsSetting>(0);
-    *setting.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(sums);
+    crate::setting::set(renderer, 0, sums);
 }
 
 /// The sums' texture names (diffuse, specular) for the sets of recipes
