@@ -88,6 +88,26 @@ impl Renderer {
         }
     }
 
+    /// A switch of this renderer (crate::setting) under `key`: as set
+    /// ([`Renderer::set_setting`]), else `read()` the first time (the
+    /// environment's, which decides what an unknown value counts as).
+    pub fn setting<T: Copy + Send + Sync + 'static>(
+        &self,
+        key: u64,
+        read: impl FnOnce() -> T,
+    ) -> T {
+        let kept = self.state::<Kept<T>>(key);
+        let mut chosen = kept.0.lock().unwrap_or_else(|e| e.into_inner());
+        *chosen.get_or_insert_with(read)
+    }
+
+    /// Set a switch of this renderer under `key` (for what is declared
+    /// from now on).
+    pub fn set_setting<T: Copy + Send + Sync + 'static>(&self, key: u64, value: T) {
+        let kept = self.state::<Kept<T>>(key);
+        *kept.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(value);
+    }
+
     /// How frames are timed and recorded.
     pub fn settings(&self) -> (Timing, Recording) {
         self.executor.settings()
@@ -222,5 +242,14 @@ pub fn test_renderer() -> std::sync::Arc<Renderer> {
     match Renderer::headless() {
         Ok(r) => std::sync::Arc::new(r),
         Err(e) => panic!("GPU tests need a GPU adapter: {e}"),
+    }
+}
+
+/// A renderer's switch `T` ([`Renderer::setting`]), once set or read.
+struct Kept<T>(Mutex<Option<T>>);
+
+impl<T> Default for Kept<T> {
+    fn default() -> Self {
+        Kept(Mutex::new(None))
     }
 }

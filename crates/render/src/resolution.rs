@@ -227,7 +227,7 @@ impl AutoChoice {
 
 /// What Auto resolves to on `renderer` ([`AUTO_VAR`] until set).
 pub fn auto_choice(renderer: &Renderer) -> AutoChoice {
-    crate::setting::get(renderer, 0, || {
+    renderer.setting(0, || {
         AutoChoice::from_env().unwrap_or_else(|e| {
             // Not fatal: the frame renders either way; the rule stands.
             eprintln!("warning: {e}; Auto follows the frame size");
@@ -238,7 +238,7 @@ pub fn auto_choice(renderer: &Renderer) -> AutoChoice {
 
 /// Make Auto resolve as `choice` on `renderer` from the next frame on.
 pub fn set_auto_choice(renderer: &Renderer, choice: AutoChoice) {
-    crate::setting::set(renderer, 0, choice);
+    renderer.set_setting(0, choice);
 }
 
 /// A recipe's resolution as it resolved when it last declared its passes,

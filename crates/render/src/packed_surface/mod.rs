@@ -126,7 +126,7 @@ impl Reader {
 
 /// What `renderer`'s `reader` reads (its variable until set).
 pub fn inputs(renderer: &Renderer, reader: Reader) -> SurfaceInputs {
-    crate::setting::get(renderer, reader.key(), || {
+    renderer.setting(reader.key(), || {
         SurfaceInputs::from_env(reader.var()).unwrap_or_else(|e| {
             // Not fatal: the frame renders either way; the default stands.
             eprintln!("warning: {e}; the packed surface is read");
@@ -137,7 +137,7 @@ pub fn inputs(renderer: &Renderer, reader: Reader) -> SurfaceInputs {
 
 /// Pick what `renderer`'s `reader` reads from the next frame on.
 pub fn set_inputs(renderer: &Renderer, reader: Reader, inputs: SurfaceInputs) {
-    crate::setting::set(renderer, reader.key(), inputs);
+    renderer.set_setting(reader.key(), inputs);
 }
 
 /// The packed surface's two targets (frame-graph names).

@@ -51,12 +51,12 @@ impl ShadowLayers {
 /// The renderer's [`ShadowLayers`]: as set, else the environment's (an
 /// unknown value there counts as the default).
 pub fn shadow_layers(renderer: &Renderer) -> ShadowLayers {
-    crate::setting::get(renderer, 0, || ShadowLayers::from_env().unwrap_or_default())
+    renderer.setting(0, || ShadowLayers::from_env().unwrap_or_default())
 }
 
 /// Set the renderer's [`ShadowLayers`] (for shadow recipes made from now on).
 pub fn set_shadow_layers(renderer: &Renderer, layers: ShadowLayers) {
-    crate::setting::set(renderer, 0, layers);
+    renderer.set_setting(0, layers);
 }
 
 #[cfg(test)]

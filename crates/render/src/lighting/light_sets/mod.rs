@@ -115,12 +115,12 @@ impl LightFusion {
 /// unknown value there counts as the default; `bench` refuses it before it
 /// measures anything).
 pub fn light_fusion(renderer: &Renderer) -> LightFusion {
-    crate::setting::get(renderer, 0, || LightFusion::from_env().unwrap_or_default())
+    renderer.setting(0, || LightFusion::from_env().unwrap_or_default())
 }
 
 /// Set the renderer's [`LightFusion`] (from the next frame graph declared on).
 pub fn set_light_fusion(renderer: &Renderer, fusion: LightFusion) {
-    crate::setting::set(renderer, 0, fusion);
+    renderer.set_setting(0, fusion);
 }
 
 /// What the bindings of one set use, against the device's per-stage limits.

@@ -73,12 +73,12 @@ impl LightSums {
 /// The renderer's [`LightSums`]: as set, else the environment's (an unknown
 /// value there counts as the default; `bench` refuses it first).
 pub fn light_sums(renderer: &Renderer) -> LightSums {
-    crate::setting::get(renderer, 0, || LightSums::from_env().unwrap_or_default())
+    renderer.setting(0, || LightSums::from_env().unwrap_or_default())
 }
 
 /// Set the renderer's [`LightSums`] (from the next frame graph declared on).
 pub fn set_light_sums(renderer: &Renderer, sums: LightSums) {
-    crate::setting::set(renderer, 0, sums);
+    renderer.set_setting(0, sums);
 }
 
 /// The sums' texture names (diffuse, specular) for the sets of recipes
