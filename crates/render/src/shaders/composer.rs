@@ -13,6 +13,7 @@ use naga_oil::compose::{
 };
 
 use super::generated::GeneratedKey;
+use super::preprocess::{self, without_comments};
 use super::{LIBRARIES, ShaderFile, ShaderKey};
 use crate::error::RenderError;
 
@@ -201,7 +202,7 @@ impl ShaderComposer {
     pub fn new() -> Result<Self, RenderError> {
         let sources = LIBRARIES
             .iter()
-            .map(|s| (s.path, Cow::Borrowed(s.source)))
+            .map(|s| (s.path, without_comments(Cow::Borrowed(s.source))))
             .collect();
         let mut composer = Self::with_sources(sources, None)?;
         composer.embedded = true;
@@ -213,7 +214,7 @@ impl ShaderComposer {
     pub fn from_dir(dir: &Path) -> Result<Self, RenderError> {
         let sources = LIBRARIES
             .iter()
-            .map(|file| (file.path, read_or_embedded(dir, file)))
+            .map(|file| (file.path, without_comments(read_or_embedded(dir, file))))
             .collect();
         Self::with_sources(sources, Some(dir.to_owned()))
     }
@@ -222,9 +223,11 @@ impl ShaderComposer {
     /// the binary) the first time it is asked for.
     fn load(&mut self, file: &'static ShaderFile) {
         let dir = &self.dir;
-        self.sources.entry(file.path).or_insert_with(|| match dir {
-            Some(dir) => read_or_embedded(dir, file),
-            None => Cow::Borrowed(file.source),
+        self.sources.entry(file.path).or_insert_with(|| {
+            without_comments(match dir {
+                Some(dir) => read_or_embedded(dir, file),
+                None => Cow::Borrowed(file.source),
+            })
         });
     }
 
@@ -306,29 +309,65 @@ impl ShaderComposer {
             Some(Err(claimed)) => Some(claimed),
             None => None,
         };
-        let shader_defs = key
-            .features
-            .iter()
-            .map(|f| ((*f).to_owned(), ShaderDefValue::Bool(true)))
-            .collect();
-        self.load(file);
-        let result = self.composer.make_naga_module(NagaModuleDescriptor {
-            source: &self.sources[file.path],
-            file_path: file.path,
-            shader_type: ShaderType::Wgsl,
-            shader_defs,
-            additional_imports: &[],
-        });
-        let module = result.map_err(|e| RenderError::Shader {
-            shader: key.path().to_owned(),
-            defs: key.describe_defs(),
-            message: e.emit_to_string(&self.composer),
-        })?;
+        let module = self.make_module(key, true)?;
         if shared {
             // Before the claim is dropped (which wakes those waiting).
             embedded().modules.insert(key.clone(), module.clone());
         }
         Ok(module)
+    }
+
+    /// naga_oil's module for permutation `key`. Where `decide`, from the
+    /// entry shader's text with its conditionals decided here
+    /// ([`preprocess::decide`]: a third to half the lines to compose); if
+    /// that text does not compose, or cannot be decided here, from the text
+    /// as written, whose error names the file's own lines.
+    fn make_module(&mut self, key: &ShaderKey, decide: bool) -> Result<naga::Module, RenderError> {
+        let file = key.file;
+        self.load(file);
+        let defs = || -> HashMap<String, ShaderDefValue> {
+            key.features
+                .iter()
+                .map(|f| ((*f).to_owned(), ShaderDefValue::Bool(true)))
+                .collect()
+        };
+        let decided = decide
+            .then(|| preprocess::decide(&self.sources[file.path], &key.features))
+            .flatten();
+        if let Some(text) = decided {
+            let module = self.composer.make_naga_module(NagaModuleDescriptor {
+                source: &text,
+                file_path: file.path,
+                shader_type: ShaderType::Wgsl,
+                shader_defs: defs(),
+                additional_imports: &[],
+            });
+            if let Ok(module) = module {
+                return Ok(module);
+            }
+        }
+        let result = self.composer.make_naga_module(NagaModuleDescriptor {
+            source: &self.sources[file.path],
+            file_path: file.path,
+            shader_type: ShaderType::Wgsl,
+            shader_defs: defs(),
+            additional_imports: &[],
+        });
+        result.map_err(|e| RenderError::Shader {
+            shader: key.path().to_owned(),
+            defs: key.describe_defs(),
+            message: e.emit_to_string(&self.composer),
+        })
+    }
+
+    /// Permutation `key` composed with its conditionals left to naga_oil
+    /// (what [`Self::compose`] did before deciding them itself), to compare.
+    #[cfg(test)]
+    pub(super) fn compose_as_written(
+        &mut self,
+        key: &ShaderKey,
+    ) -> Result<naga::Module, RenderError> {
+        self.make_module(key, false)
     }
 }
 

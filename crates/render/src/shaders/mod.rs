@@ -82,6 +82,7 @@ pub mod layout;
 /// last run's list, or what a first frame's passes announce): the cache's
 /// own helper, so it lives beside the cache.
 pub mod pipelines_ahead;
+mod preprocess;
 mod reflection;
 mod uniform;
 
