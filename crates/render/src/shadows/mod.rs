@@ -729,7 +729,7 @@ impl Recipe for ShadowMaps {
             let mut pass = fg.pass(self.label("moments"), self.owner);
             pass.read(&self.depth_token);
             pass.write(&self.token, token);
-            pass.run(move |cx| self.moments_pass(cx, renderer));
+            pass.run(move |cx| self.moments_pass(cx));
         }
     }
 }

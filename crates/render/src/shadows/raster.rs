@@ -268,8 +268,7 @@ impl ShadowMaps {
             fg.will_dispatch(&Self::resolve_key(Target::MapOverStill), entry);
         }
         if matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
-            let entry = if self.together { "main_layers" } else { "main" };
-            fg.will_dispatch(&MomentsKey.key(), entry);
+            fg.will_dispatch(&MomentsKey.key(), "main");
         }
     }
 
@@ -515,11 +514,7 @@ impl ShadowMaps {
     }
 
     /// VSM's second pass: moments of the layers the render pass just drew.
-    pub(super) fn moments_pass(
-        &self,
-        cx: &mut PassContext<'_>,
-        renderer: &Renderer,
-    ) -> Result<(), RenderError> {
+    pub(super) fn moments_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         if !matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
             return Ok(());
         }
@@ -529,9 +524,6 @@ impl ShadowMaps {
         };
         let regions = std::mem::take(&mut maps.pending_moments);
         match (&maps.moments, regions.is_empty()) {
-            (Some(moments), false) if self.together => {
-                self.moments_together(cx, renderer, &maps.depth, moments, &regions)
-            }
             (Some(moments), false) => self.moments(cx, &maps.depth, moments, &regions),
             _ => Ok(()),
         }

@@ -2,8 +2,11 @@
 //! layer (and scrolled strip) a frame draws from one caster set into one
 //! target goes through one compute raster chain, the layer a dispatch
 //! dimension (`ComputeRaster::record_layers`), then one resolve dispatch
-//! writes every layer of the map, and VSM's moments of every region are one
-//! dispatch. Per layer, the sun's four cascades were four chains of a
+//! writes every layer of the map. VSM's moments stay a dispatch per region
+//! (`ShadowMaps::moments`): one dispatch for every region measured 0.185
+//! ms on the H200 for emeshe-heavy's sun against 0.130 for four (its
+//! region and blur came from a storage table, where each of the four reads
+//! them from a uniform). Per layer, the sun's four cascades were four chains of a
 //! buffer clear, a tile reset, the batches' dispatches, the tiles' and a
 //! resolve each: 0.130 ms of CPU to record on the H200 for emeshe-heavy's
 //! sun (docs/benchmarks.md, "Session 22: shadow layers together").
@@ -15,24 +18,21 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::gbuffer::compute_raster::LayeredView;
 use crate::renderer::Renderer;
-use crate::shaders::Permutation;
 use crate::texture_pool::ViewSpec;
 
 use super::ShadowMaps;
 use super::layers::{LAYER_CHAINS, LAYERS_TOGETHER};
 use super::raster::Job;
-use super::raster_key::MomentsKey;
 use super::scroll::Rect;
 use super::store::StoredMaps;
 
-/// Matches `Part` in shaders/shadows/resolve.wgsl and, as `Region`, in
-/// shaders/shadows/moments.wgsl (`words` there is the blur radius): a
-/// rectangle of a layer and the run of 8x8 workgroups that covers it.
+/// Matches `Part` in shaders/shadows/resolve.wgsl: a rectangle of a layer
+/// and the run of 8x8 workgroups that covers it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuPart {
     layer: u32,
-    /// The resolve: where the part's words start. The moments: the blur radius.
+    /// Where the part's words start.
     words: u32,
     first_group: u32,
     groups_across: u32,
@@ -49,16 +49,16 @@ struct Part {
 }
 
 /// The parts' table and the workgroups covering them all: each part's
-/// workgroups follow the last's, `rect`'s size in 8x8 workgroups; `second`
-/// gives each part's second word (its first word, or its blur).
+/// workgroups follow the last's, `rect`'s size in 8x8 workgroups; `words`
+/// is where each part's words start.
 fn parts_table(parts: impl Iterator<Item = (u32, Rect, u32)>) -> (Vec<GpuPart>, u32) {
     let mut groups = 0u32;
     let table = parts
-        .map(|(layer, rect, second)| {
+        .map(|(layer, rect, words)| {
             let across = rect.w.div_ceil(8);
             let part = GpuPart {
                 layer,
-                words: second,
+                words,
                 first_group: groups,
                 groups_across: across,
                 region: rect.to_gpu(),
@@ -224,42 +224,6 @@ impl ShadowMaps {
         cx.count(LAYER_CHAINS, 1);
         Ok(())
     }
-
-    /// VSM: the moments of every (layer, region) in one dispatch, each
-    /// texel as the per-region dispatches compute it.
-    pub(super) fn moments_together(
-        &self,
-        cx: &mut PassContext<'_>,
-        renderer: &Renderer,
-        depth: &wgpu::Texture,
-        moments: &wgpu::Texture,
-        regions: &[(u32, Rect, wgpu::Buffer)],
-    ) -> Result<(), RenderError> {
-        let blur = match self.settings.filter {
-            super::ShadowFilter::Vsm { blur, .. } => blur.min(8),
-            _ => 0,
-        };
-        let (table, groups) = parts_table(regions.iter().map(|(l, r, _)| (*l, *r, blur)));
-        let table = renderer.kept_init_at(
-            self.owner,
-            "shadow moments regions",
-            0,
-            bytemuck::cast_slice(&table),
-            wgpu::BufferUsages::STORAGE,
-        );
-        let b = Bindings::new()
-            .view("depth", cx.view_of(depth, ViewSpec::array()))
-            .buffer("views", &self.views)
-            .buffer("regions", &table)
-            .view("moments_layers", cx.view_of(moments, ViewSpec::array()));
-        cx.dispatch_shader(
-            "shadow moments",
-            &MomentsKey.key(),
-            "main_layers",
-            b,
-            spread(groups),
-        )
-    }
 }
 
 #[cfg(test)]
@@ -323,19 +287,12 @@ mod wgsl_layout {
     use super::*;
 
     #[test]
-    fn gpu_part_matches_part_in_the_resolve_and_region_in_the_moments() {
+    fn gpu_part_matches_part_in_the_resolve() {
         crate::assert_wgsl_layout!(
             GpuPart,
             crate::shadows::raster_key::ShadowResolveKey,
             [],
             "Part",
-            [layer, words, first_group, groups_across, region]
-        );
-        crate::assert_wgsl_layout!(
-            GpuPart,
-            crate::shadows::raster_key::MomentsKey,
-            [],
-            "Region",
             [layer, words, first_group, groups_across, region]
         );
     }
