@@ -103,16 +103,18 @@ fn coc(@builtin(global_invocation_id) id: vec3<u32>) {
 
 var<workgroup> partial_max: array<f32, 64>;
 
-// One 8x8 workgroup per tile (dispatched per tile, not per pixel): its 64
-// lanes stride over the pixels of the tile and its neighbours, then reduce in
-// workgroup memory. A thread per tile walking up to 3k x 3k pixels alone left
-// the GPU nearly idle (0.29 ms at 1080p on the H100).
+// Each tile's largest circle: one 8x8 workgroup per tile (dispatched per
+// tile, not per pixel), its 64 lanes striding over the tile's pixels, then
+// a reduction in workgroup memory. A thread per tile walking up to 3k x 3k
+// pixels alone left the GPU nearly idle (0.29 ms at 1080p on the H100);
+// reading the 3x3 tiles around it here read every pixel nine times (0.035
+// ms at 1080p on the H200), so `neighbour_max` takes the 3x3 after.
 @compute @workgroup_size(8, 8)
 fn tiles(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let k = i32(params.limits.z);
     let full = coc_size();
-    let lo = max((vec2<i32>(tile.xy) - 1) * k, vec2<i32>(0));
-    let hi = min((vec2<i32>(tile.xy) + 2) * k, full);
+    let lo = vec2<i32>(tile.xy) * k;
+    let hi = min(lo + k, full);
     let local = vec2<i32>(i32(lane % 8u), i32(lane / 8u));
     var m = 0.0;
     for (var y = lo.y + local.y; y < hi.y; y += 8) {
@@ -132,6 +134,23 @@ fn tiles(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index
     if (lane == 0u && tile.x < size.x && tile.y < size.y) {
         textureStore(tiles_out, tile.xy, vec4<f32>(partial_max[0], 0.0, 0.0, 0.0));
     }
+}
+
+// Per tile, the largest circle of it and its eight neighbours: a circle
+// reaches no further than the next tile, so nothing wider can cover a pixel.
+@compute @workgroup_size(8, 8)
+fn neighbour_max(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(tiles_out);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    var m = 0.0;
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            m = max(m, load_clamped(tiles_in, vec2<i32>(id.xy) + vec2<i32>(x, y)).r);
+        }
+    }
+    textureStore(tiles_out, id.xy, vec4<f32>(m, 0.0, 0.0, 0.0));
 }
 
 fn shape(offset: vec2<f32>) -> f32 {

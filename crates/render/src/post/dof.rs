@@ -171,6 +171,9 @@ pub struct Dof {
     settings: DofSettings,
     params: wgpu::Buffer,
     coc: String,
+    /// Each tile's largest circle of confusion.
+    tile_max: String,
+    /// Each tile's and its eight neighbours' largest: what the blur reads.
     tiles: String,
     /// The half-size blur (Half only).
     pub output: String,
@@ -205,6 +208,7 @@ impl Dof {
             settings: settings.clean(),
             params,
             coc: format!("dof{id} coc"),
+            tile_max: format!("dof{id} tile max"),
             tiles: format!("dof{id} tiles"),
             output: format!("dof{id}"),
         })
@@ -235,7 +239,8 @@ impl Dof {
     }
 
     /// `entry` of dof.wgsl writing `output` (`coc`: the circle of
-    /// confusion, `tiles`: each tile's largest, `main`: the blur), with what
+    /// confusion, `tiles`: each tile's largest, `neighbour_max`: the largest
+    /// of each tile's 3x3, `main`: the blur), with what
     /// its pass declared in `bindings` and the camera and parameters every
     /// entry binds.
     fn run(
@@ -331,8 +336,8 @@ impl Recipe for Dof {
         // The pipelines `run` dispatches (frame_graph/gather.rs).
         let key = self.key();
         let entries: &[&'static str] = match inline {
-            true => &["tiles", "main"],
-            false => &["coc", "tiles", "main"],
+            true => &["tiles", "neighbour_max", "main"],
+            false => &["coc", "tiles", "neighbour_max", "main"],
         };
         for entry in entries {
             fg.will_dispatch(&key, entry);
@@ -360,20 +365,27 @@ impl Recipe for Dof {
                 CocIo::Target(pass.read(&self.coc))
             }
         };
+        let tiles_desc = TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
+            crate::frame_graph::SizeRule::Absolute {
+                width: size.0.div_ceil(tile),
+                height: size.1.div_ceil(tile),
+            },
+        );
         let mut pass = fg.pass(PassName::new("DOF").step("tiles"), self.owner);
         let coc = read_coc(&mut pass);
-        let tiles = pass.write(
-            &self.tiles,
-            TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
-                crate::frame_graph::SizeRule::Absolute {
-                    width: size.0.div_ceil(tile),
-                    height: size.1.div_ceil(tile),
-                },
-            ),
-        );
+        let tile_max = pass.write(&self.tile_max, tiles_desc);
         pass.run(move |cx| {
-            let b = coc.bind(Bindings::new()).texture("tiles_out", tiles);
-            self.run(cx, "tiles", b, tiles)
+            let b = coc.bind(Bindings::new()).texture("tiles_out", tile_max);
+            self.run(cx, "tiles", b, tile_max)
+        });
+        let mut pass = fg.pass(PassName::new("DOF").step("neighbour max"), self.owner);
+        let tile_max = pass.read(&self.tile_max);
+        let tiles = pass.write(&self.tiles, tiles_desc);
+        pass.run(move |cx| {
+            let b = Bindings::new()
+                .texture("tiles_in", tile_max)
+                .texture("tiles_out", tiles);
+            self.run(cx, "neighbour_max", b, tiles)
         });
         let resolution = s.resolution;
         let mut pass = fg.pass(
