@@ -12,9 +12,10 @@
 // The rotation (interleaved gradient noise) changes every frame, so the
 // temporal pass converges to many more samples than one frame takes.
 // HALF: one pixel per 2x2 block (see main), for the depth-aware upsample.
-// TEMPORAL (full resolution): the estimate is blended with last frame's
-// here (shaders/lib/ao_history.wgsl) and the history texel written, so
-// accumulation costs no pass of its own.
+// TEMPORAL: the estimate is blended with last frame's here
+// (shaders/lib/ao_history.wgsl) and the history texel written, so
+// accumulation costs no pass of its own; with HALF into the half-size
+// history at the half texel, blended at the full pixel it stands for.
 // PACKED_Z (the plain estimator): the rays read the packed surface's view z
 // (crates/render/src/packed_surface), four steps' reads at a time
 // (screen.wgsl's march_packed): the same pixels as `march`.
@@ -43,8 +44,8 @@
 @group(0) @binding(13) var view_z: texture_2d<f32>;
 #endif
 #ifdef TEMPORAL
-// The estimate blended with last frame's in this pass (full resolution):
-// the history texel (shaders/lib/ao_history.wgsl), not the raw visibility.
+// The estimate blended with last frame's in this pass (at the output's
+// size, full or half): the history texel (shaders/lib/ao_history.wgsl), not the raw visibility.
 @group(0) @binding(4) var history: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var velocity_uv: texture_2d<f32>;
 @group(0) @binding(11) var previous: texture_2d<f32>;
@@ -218,11 +219,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 #ifdef TEMPORAL
     if (d <= 0.0) {
-        textureStore(history, pixel, SKY);
+        textureStore(history, id.xy, SKY);
         return;
     }
     let reuse = params.reset == 0u && fresh.x == 0u;
-    textureStore(history, pixel, accumulate(camera, visibility, pixel, p, n_view, velocity_uv, previous, reuse, params.blend));
+    textureStore(history, id.xy, accumulate(camera, visibility, pixel, p, n_view, velocity_uv, previous, reuse, params.blend));
 #else
     textureStore(output, id.xy, vec4<f32>(visibility, 0.0, 0.0, 0.0));
 #endif

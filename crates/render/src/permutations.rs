@@ -34,7 +34,6 @@ pub const ENTRY_SHADERS: &[&ShaderFile] = &[
     <crate::shadows::raster_key::ShadowResolveKey as Permutation>::FILE,
     <crate::ssao::key::DepthKey as Permutation>::FILE,
     <crate::ssao::key::AoKey as Permutation>::FILE,
-    <crate::ssao::key::TemporalKey as Permutation>::FILE,
     <crate::ssao::key::BlurKey as Permutation>::FILE,
     <crate::packed_surface::key::PackKey as Permutation>::FILE,
     <crate::environment::sky_key::SkyKey as Permutation>::FILE,

@@ -514,9 +514,11 @@ fn planned_half(
     ao.declare(renderer, &mut fg);
     gi.declare(renderer, &mut fg);
     let planned = |name: &str| fg.planned(name).map(|k| (k.width, k.height));
+    // The blurs' half-size results: only a half chain has them (AO's
+    // half-size estimate is its history, which Full has at full size).
     [
-        planned(&ao.half_targets()[0]),
-        planned(&gi.half_targets()[0]),
+        planned(&ao.half_targets()[1]),
+        planned(&gi.half_targets()[1]),
     ]
 }
 

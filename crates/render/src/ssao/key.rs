@@ -55,8 +55,10 @@ pub enum AoTarget {
     Full,
     /// Full resolution, with the history blended in the same pass.
     FullTemporal,
-    /// Half resolution, upsampled (and blended) by later passes.
+    /// Half resolution, upsampled (and blurred) by later passes.
     Half,
+    /// Half resolution, with the half-size history blended in the same pass.
+    HalfTemporal,
 }
 
 impl Permutation for AoKey {
@@ -72,17 +74,24 @@ impl Permutation for AoKey {
         let target = match self.target {
             AoTarget::Full => None,
             AoTarget::FullTemporal => Some("TEMPORAL"),
-            AoTarget::Half => Some("HALF"),
+            AoTarget::Half | AoTarget::HalfTemporal => Some("HALF"),
         };
+        let blended = (self.target == AoTarget::HalfTemporal).then_some("TEMPORAL");
         estimator
             .into_iter()
             .chain(target)
+            .chain(blended)
             .chain(self.packed.then_some("PACKED_Z"))
     }
 
     fn all() -> Vec<Self> {
         let estimators = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
-        let targets = [AoTarget::Full, AoTarget::FullTemporal, AoTarget::Half];
+        let targets = [
+            AoTarget::Full,
+            AoTarget::FullTemporal,
+            AoTarget::Half,
+            AoTarget::HalfTemporal,
+        ];
         let plain = |packed| {
             move |(estimator, target)| AoKey {
                 estimator,
@@ -182,26 +191,5 @@ impl Permutation for BlurKey {
             half: true,
         });
         full.chain(half).collect()
-    }
-}
-
-/// `ssao/temporal.wgsl`: the history blend after a half-resolution estimate:
-/// at full size after its upsample, or (`half`) at half size, AO's
-/// half-resolution chain.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TemporalKey {
-    pub half: bool,
-}
-
-impl Permutation for TemporalKey {
-    crate::shader_file!("ssao/temporal.wgsl");
-    const FEATURES: &'static [&'static str] = &["HALF"];
-
-    fn features(self) -> impl Iterator<Item = &'static str> {
-        self.half.then_some("HALF").into_iter()
-    }
-
-    fn all() -> Vec<Self> {
-        vec![TemporalKey { half: false }, TemporalKey { half: true }]
     }
 }

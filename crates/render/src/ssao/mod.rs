@@ -6,9 +6,10 @@
 //! 1. SAO only: view depth and a mip chain of it (shaders/ssao/linear_depth.wgsl),
 //!    so far taps read coarse levels and stay in cache.
 //! 2. Raw AO: per-pixel rotated samples, the rotation changing every frame.
-//! 3. Temporal (when the blend is above 0): last frame's result reprojected
-//!    with the G-buffer velocity, rejected where depth or normal disagree
-//!    (disocclusion), sanitized on read, blended in. The history is a
+//! 3. Temporal (when the blend is above 0), in step 2's pass: last frame's
+//!    result reprojected with the G-buffer velocity, rejected where depth or
+//!    normal disagree (disocclusion), sanitized on read, blended in
+//!    (shaders/lib/ao_history.wgsl). The history is a
 //!    persistent texture named after the node; a resize, a `Reset` or
 //!    `Renderer::reset_history` starts it anew.
 //! 4. A depth- and normal-aware separable blur (shaders/ssao/blur.wgsl),
@@ -43,7 +44,7 @@ use crate::temporal::{RayParams, RayUniforms};
 
 // The keys declare their shader files and need nothing of the pass.
 pub(crate) mod key;
-pub use key::{AoKey, AoMode, AoTarget, BlurKey, BlurPass, DepthKey, TemporalKey};
+pub use key::{AoKey, AoMode, AoTarget, BlurKey, BlurPass, DepthKey};
 
 /// Every AO pin; out-of-range values are clamped where the recipe is made.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -158,13 +159,15 @@ impl AmbientOcclusion {
     }
 
     /// The half chain's targets (frame-graph names), for tests and tools:
-    /// the half-size raw estimate and the blur's half-size result (what
-    /// the upsample reads when the blur runs).
+    /// the half-size estimate (the raw target, or with a temporal blend the
+    /// half-size history the raw pass blends into) and the blur's half-size
+    /// result (what the upsample reads when the blur runs).
     pub fn half_targets(&self) -> [String; 2] {
-        [
-            written_target(&self.name("raw"), Resolution::Half),
-            self.name("out half"),
-        ]
+        let estimate = match self.temporal() {
+            true => self.history_name(),
+            false => written_target(&self.name("raw"), Resolution::Half),
+        };
+        [estimate, self.name("out half")]
     }
 
     /// The persistent history texture's name (RGBA16F: visibility, view
@@ -180,12 +183,6 @@ impl AmbientOcclusion {
 
     fn temporal(&self) -> bool {
         self.settings.temporal_blend > 0.0 && !self.off()
-    }
-
-    /// Full resolution with accumulation: the estimate blends its history
-    /// in the raw pass (ao.wgsl's TEMPORAL), with no raw target between.
-    fn fused(&self, resolution: Resolution) -> bool {
-        self.temporal() && !resolution.is_half()
     }
 
     /// What every AO pass but SAO's depth chain binds: the camera, the
@@ -319,11 +316,13 @@ impl Recipe for AmbientOcclusion {
         if let Some(view_z) = &view_z {
             pass.input("view_z", view_z);
         }
-        let fused = self
-            .fused(resolution)
-            .then(|| self.history(&mut pass, self.gbuffer.size));
+        // With accumulation the estimate blends its history in the raw pass
+        // (ao.wgsl's TEMPORAL), at full or half size, with no raw target
+        // between: a pass of its own cost 0.0175 ms at half 1080p on the
+        // H200 (session 23).
+        let size = resolution.size_rule(self.gbuffer.size, pixels);
+        let fused = self.temporal().then(|| self.history(&mut pass, size));
         if fused.is_none() {
-            let size = resolution.size_rule(self.gbuffer.size, pixels);
             pass.output(
                 "output",
                 &written_target(&raw, resolution),
@@ -338,7 +337,8 @@ impl Recipe for AmbientOcclusion {
                 self.settings.mode
             },
             target: match (resolution.is_half(), fused) {
-                (true, _) => AoTarget::Half,
+                (true, Some(_)) => AoTarget::HalfTemporal,
+                (true, None) => AoTarget::Half,
                 (false, Some(_)) => AoTarget::FullTemporal,
                 (false, None) => AoTarget::Full,
             },
@@ -346,29 +346,14 @@ impl Recipe for AmbientOcclusion {
         };
         pass.will_dispatch(&key.key(), "main");
         pass.run_bound(move |cx, b| self.raw(cx, b, key, fused, resolution));
-        if fused.is_some() {
-            // The estimate and its accumulation in one pass: straight to the blur.
-            return self.declare_blur(fg, self.history_name(), packed);
+        let source = match fused {
+            Some(_) => self.history_name(),
+            None => written_target(&raw, resolution),
+        };
+        match resolution.is_half() {
+            true => self.declare_half_chain(fg, source, size),
+            false => self.declare_blur(fg, source, packed),
         }
-        if resolution.is_half() {
-            let half = resolution.size_rule(self.gbuffer.size, pixels);
-            return self.declare_half_chain(fg, written_target(&raw, resolution), half);
-        }
-        if !self.temporal() {
-            return self.declare_blur(fg, raw, packed);
-        }
-        let mut pass = self.pass(fg, "temporal");
-        pass.input("raw", &raw);
-        self.common(&mut pass);
-        let h = self.history(&mut pass, self.gbuffer.size);
-        let key = TemporalKey { half: false };
-        pass.will_dispatch(&key.key(), "main");
-        pass.run_bound(move |cx, b| {
-            let b = b.buffer("temporal", self.rays.hand_over(cx, h)?);
-            let size = self.gbuffer.pixel_size(cx.output_size);
-            cx.dispatch_image("ao temporal", &key.key(), b, size)
-        });
-        self.declare_blur(fg, self.history_name(), packed);
     }
 }
 
@@ -418,10 +403,9 @@ impl AmbientOcclusion {
 }
 
 impl AmbientOcclusion {
-    /// AO's half-resolution chain after the half-size estimate `source`
-    /// (`half`: its size rule): the temporal blend into a half-size history
-    /// and both blur passes at half size (ssao/temporal.wgsl's and
-    /// ssao/blur.wgsl's HALF), then one depth-aware upsample that writes the
+    /// AO's half-resolution chain after the half-size estimate `source` (its
+    /// half-size history, where the raw pass blended it): both blur passes
+    /// at half size (ssao/blur.wgsl's HALF), then one depth-aware upsample that writes the
     /// grey RGBA output and multiplies `combine` in
     /// (resolution/upsample.wgsl's AO / AO_COMBINE). The blurs read the
     /// G-buffer, never the packed surface (which is full size).
@@ -431,20 +415,6 @@ impl AmbientOcclusion {
         mut source: String,
         half: SizeRule,
     ) {
-        if self.temporal() {
-            let mut pass = self.pass(fg, "temporal (half)");
-            pass.input("raw", &source);
-            self.common(&mut pass);
-            let h = self.history(&mut pass, half);
-            let key = TemporalKey { half: true };
-            pass.will_dispatch(&key.key(), "main");
-            pass.run_bound(move |cx, b| {
-                let b = b.buffer("temporal", self.rays.hand_over(cx, h)?);
-                let size = half.pixels(cx.output_size);
-                cx.dispatch_image("ao temporal", &key.key(), b, size)
-            });
-            source = self.history_name();
-        }
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
