@@ -120,8 +120,8 @@ fn a_cached_bind_group_is_found_by_what_it_binds() {
 fn a_feature_set_no_typed_key_has_is_refused() {
     use crate::ssao::{AoKey, AoTarget};
     let ao = <AoKey as Permutation>::FILE;
-    // Half resolution blends its history after the upsample: no AoTarget holds both.
-    let both: std::collections::BTreeSet<_> = ["HALF", "TEMPORAL"].into_iter().collect();
+    // One estimator at a time: no AoMode is both SAO and HBAO.
+    let both: std::collections::BTreeSet<_> = ["SAO", "HBAO"].into_iter().collect();
     let err = ao.check(&both).expect_err("refused");
     assert!(err.contains("typed key"), "{err}");
     let half = AoKey {
