@@ -299,29 +299,29 @@ struct UpsampleIo {
     source: Tex,
     /// The full-size target.
     output: Tex,
-    /// Depth of field: the full-size sharp image and the circle of
-    /// confusion, so in-focus pixels keep their full-resolution detail.
-    detail: Option<(Tex, Tex)>,
+    /// What the permutation reads besides, by variable: depth of field's
+    /// sharp image and circle of confusion, or a half chain's finish's
+    /// combined AO or ambient light.
+    extra: [Option<(&'static str, Tex)>; 2],
 }
 
-/// Record the depth-aware upsample of `io.source` into `io.output`.
+/// Record the depth-aware upsample of `io.source` into `io.output` with
+/// permutation `key`.
 fn upsample(
     cx: &mut PassContext<'_>,
     label: &str,
     gbuffer: &GBuffer,
-    format: UpsampleFormat,
+    key: UpsampleKey,
     io: &UpsampleIo,
 ) -> Result<(), RenderError> {
-    // R32 is AO's; the detail is depth of field's, in RGBA16F.
-    let key = upsample_key(format, io.detail.is_some());
     let mut b = Bindings::new()
         .buffer("camera", gbuffer.camera_buffer())
         .texture("depth", io.depth)
         .texture("normals", io.normals)
         .texture("source", io.source)
         .texture("output", io.output);
-    if let Some((image, coc)) = io.detail {
-        b = b.texture("image", image).texture("coc", coc);
+    for (var, tex) in io.extra.into_iter().flatten() {
+        b = b.texture(var, tex);
     }
     let size = gbuffer.pixel_size(cx.output_size);
     cx.dispatch_image(label, &key.key(), b, size)
@@ -379,22 +379,33 @@ pub fn declare_upsample<'a>(
     }
     let g = &u.gbuffer.targets;
     let mut pass = fg.pass(u.name, u.owner);
+    let (source, depth, normals) = (
+        pass.read(u.half),
+        pass.read(&g.depth),
+        pass.read(&g.normals),
+    );
+    let detail = u
+        .detail
+        .map(|(image, coc)| (pass.read(image), pass.read(coc)));
     let io = UpsampleIo {
-        source: pass.read(u.half),
-        depth: pass.read(&g.depth),
-        normals: pass.read(&g.normals),
-        detail: u
-            .detail
-            .map(|(image, coc)| (pass.read(image), pass.read(coc))),
+        source,
+        depth,
+        normals,
+        extra: [
+            detail.map(|(image, _)| ("image", image)),
+            detail.map(|(_, coc)| ("coc", coc)),
+        ],
         output: pass.write(u.full, u.desc),
     };
+    // R32 is AO's; the detail is depth of field's, in RGBA16F.
+    let key = upsample_key(u.format, u.detail.is_some());
     // Announced, so a first frame finds its pipeline made on a thread
     // (frame_graph/gather.rs); SSR's and DOF's half paths come through here.
-    pass.will_dispatch(&upsample_key(u.format, u.detail.is_some()).key(), "main");
-    let (gbuffer, format, counter, label) = (u.gbuffer, u.format, u.counter, u.label);
+    pass.will_dispatch(&key.key(), "main");
+    let (gbuffer, counter, label) = (u.gbuffer, u.counter, u.label);
     pass.run(move |cx| {
         cx.count(counter, 1);
-        upsample(cx, label, gbuffer, format, &io)
+        upsample(cx, label, gbuffer, key, &io)
     });
 }
 
@@ -446,29 +457,27 @@ pub fn declare_finish<'a>(fg: &mut FrameGraph<'a>, u: FinishPass<'_, 'a>) {
     let g = &u.gbuffer.targets;
     let key = u.finish.key();
     let mut pass = fg.pass(u.name, u.owner);
-    let source = pass.read(u.half);
-    let depth = pass.read(&g.depth);
-    let normals = pass.read(&g.normals);
+    let (source, depth, normals) = (
+        pass.read(u.half),
+        pass.read(&g.depth),
+        pass.read(&g.normals),
+    );
     let extra = match u.finish {
         Finish::Ao { combine } => combine.map(|c| ("combine", pass.read(c))),
         Finish::Light { ambient } => ambient.map(|a| ("ambient", pass.read(a))),
     };
-    let output = pass.write(u.full, u.desc);
+    let io = UpsampleIo {
+        source,
+        depth,
+        normals,
+        extra: [extra, None],
+        output: pass.write(u.full, u.desc),
+    };
     pass.will_dispatch(&key.key(), "main");
     let (gbuffer, counter, label) = (u.gbuffer, u.counter, u.label);
     pass.run(move |cx| {
         cx.count(counter, 1);
-        let mut b = Bindings::new()
-            .buffer("camera", gbuffer.camera_buffer())
-            .texture("depth", depth)
-            .texture("normals", normals)
-            .texture("source", source)
-            .texture("output", output);
-        if let Some((var, tex)) = extra {
-            b = b.texture(var, tex);
-        }
-        let size = gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(label, &key.key(), b, size)
+        upsample(cx, label, gbuffer, key, &io)
     });
 }
 
