@@ -174,29 +174,13 @@ impl ShadowMaps {
                 .map(|(p, &w)| (p.layer, p.rect, w)),
         );
         let cameras: Vec<GpuCamera> = parts.iter().map(|p| p.camera).collect();
-        let storage = wgpu::BufferUsages::STORAGE;
-        let owner = self.owner;
-        let cameras = renderer.kept_init_at(
-            owner,
-            "shadow layered cameras",
-            chain,
-            bytemuck::cast_slice(&cameras),
-            storage,
-        );
-        let layer_words = renderer.kept_init_at(
-            owner,
-            "shadow layered words",
-            chain,
-            bytemuck::cast_slice(&layer_words),
-            storage,
-        );
-        let table = renderer.kept_init_at(
-            owner,
-            "shadow layered parts",
-            chain,
-            bytemuck::cast_slice(&table),
-            storage,
-        );
+        // The chain's buffers, kept under the node by chain index.
+        let kept = |name: &'static str, bytes: &[u8]| {
+            renderer.kept_init_at(self.owner, name, chain, bytes, wgpu::BufferUsages::STORAGE)
+        };
+        let cameras = kept("shadow layered cameras", bytemuck::cast_slice(&cameras));
+        let layer_words = kept("shadow layered words", bytemuck::cast_slice(&layer_words));
+        let table = kept("shadow layered parts", bytemuck::cast_slice(&table));
         let view = LayeredView {
             cameras: &cameras,
             layer_words: &layer_words,
