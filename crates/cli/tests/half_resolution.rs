@@ -26,13 +26,7 @@ fn bench_half(patch: &str, ids: &[&str]) -> Vec<String> {
     }
     let o = spreadlight(&args);
     assert_eq!(o.status.code(), Some(0), "{patch}: {}", text(&o.stderr));
-    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
-    json["pass_order"]
-        .as_array()
-        .expect("pass_order")
-        .iter()
-        .filter_map(|p| p["name"].as_str().map(str::to_owned))
-        .collect()
+    pass_names(&serde_json::from_str(&text(&o.stdout)).expect("JSON"))
 }
 
 fn has(passes: &[String], prefix: &str, what: &str) -> bool {

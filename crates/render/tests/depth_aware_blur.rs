@@ -241,21 +241,27 @@ fn ao_node(
     (ao, other)
 }
 
+/// The plain estimator's settings the blur tests compare against the CPU:
+/// one frame (no temporal blend), blurred at `blur_radius`.
+fn one_frame_ao(blur_radius: u32) -> AoSettings {
+    AoSettings {
+        mode: AoMode::Stochastic,
+        radius: 1.0,
+        samples: 8,
+        steps: 8,
+        temporal_blend: 0.0,
+        blur_radius,
+        ..Default::default()
+    }
+}
+
 #[test]
 fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
     // The same node id on a new renderer: the same frame index, the same noise.
     let frame = |blur_radius: u32, combine: bool| {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
-        let settings = AoSettings {
-            mode: AoMode::Stochastic,
-            radius: 1.0,
-            samples: 8,
-            steps: 8,
-            temporal_blend: 0.0,
-            blur_radius,
-            ..Default::default()
-        };
+        let settings = one_frame_ao(blur_radius);
         let (ao, other) = ao_node(&renderer, &g, settings, combine);
         let mut read = vec![ao.output.as_str(), &g.targets.depth, &g.targets.normals];
         read.extend(other.as_ref().map(|o| o.output.as_str()));
@@ -392,15 +398,7 @@ fn the_packed_surface_blurs_as_the_gbuffer_does() {
         // The rays the G-buffer way in both frames: the surface is the blurs' alone.
         set_inputs(&renderer, Reader::Rays, SurfaceInputs::GBuffer);
         let g = gbuffer(&renderer, eye(), None, SIZE);
-        let settings = AoSettings {
-            mode: AoMode::Stochastic,
-            radius: 1.0,
-            samples: 8,
-            steps: 8,
-            temporal_blend: 0.0,
-            blur_radius: 4,
-            ..Default::default()
-        };
+        let settings = one_frame_ao(4);
         // HBAO blurred too, multiplied in: two AO blurs on one G-buffer.
         let hbao = AoSettings {
             mode: AoMode::Hbao,
@@ -555,14 +553,8 @@ fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
         let settings = AoSettings {
-            mode: AoMode::Stochastic,
-            radius: 1.0,
-            samples: 8,
-            steps: 8,
-            temporal_blend: 0.0,
-            blur_radius: radius,
             resolution: Resolution::Half,
-            ..Default::default()
+            ..one_frame_ao(radius)
         };
         let (ao, other) = ao_node(&renderer, &g, settings, combine);
         let [raw, blurred] = ao.half_targets();
