@@ -4,9 +4,14 @@
 // G-buffer's reversed-Z depth, each further mip the MAX of the texels under
 // it (its 2x2, and at the last row or column what an odd level leaves).
 // Two levels a dispatch (hiz_first: the copy and mip 1; hiz_down2: the next
-// two from the one before), so the 11 levels of 1080p take 6 dispatches:
-// most levels are too small to fill the GPU, and each dispatch costs a
-// barrier. hiz_copy alone serves a 1x1 image; hiz_down an odd last level. In
+// two from the one before), and every level of at most 32 texels a side in
+// one workgroup (hiz_tail, through workgroup memory), so the 11 levels of
+// 1080p take 4 dispatches: most levels are too small to fill the GPU, and
+// each dispatch costs a barrier. A texel's footprint is read with
+// independent loads (its 2x2, then an odd level's third row or column), so
+// a thread waits for one load's latency, not one per texel: at the small
+// levels there are too few threads to hide it. hiz_copy alone serves a 1x1
+// image; hiz_down an odd last level where the tail cannot serve. In
 // reversed-Z the max is the NEAREST surface of the cell (the farthest is
 // the min): a ray nearer than a cell's max is in front of everything in it
 // and may skip the whole cell; with the min it could skip past a near
@@ -79,6 +84,15 @@ struct Params {
 @group(0) @binding(12) var hiz_source: texture_2d<f32>;
 // The level after out_hiz's (hiz_first, hiz_down2).
 @group(0) @binding(16) var out_hiz_next: texture_storage_2d<r32float, write>;
+// hiz_tail's levels, the first after hiz_source's first; where the chain
+// has fewer, the rest are bound to levels the tail neither reads nor writes
+// (crates/render/src/mip_chain.rs).
+@group(0) @binding(17) var out_tail_0: texture_storage_2d<r32float, write>;
+@group(0) @binding(18) var out_tail_1: texture_storage_2d<r32float, write>;
+@group(0) @binding(19) var out_tail_2: texture_storage_2d<r32float, write>;
+@group(0) @binding(20) var out_tail_3: texture_storage_2d<r32float, write>;
+@group(0) @binding(21) var out_tail_4: texture_storage_2d<r32float, write>;
+@group(0) @binding(22) var out_tail_5: texture_storage_2d<r32float, write>;
 @group(0) @binding(13) var current: texture_2d<f32>;
 @group(0) @binding(14) var history: texture_2d<f32>;
 @group(0) @binding(15) var velocity_uv: texture_2d<f32>;
@@ -100,54 +114,86 @@ fn hiz_copy(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(out_hiz, id.xy, vec4<f32>(select(0.0, d, d == d), 0.0, 0.0, 0.0));
 }
 
-// Along one axis: the first and last texel of the level below (`src`
-// wide) under texel `k` of a level `out` wide: its two, and at the last
-// texel the rest of an odd level.
-fn footprint(k: u32, out: u32, src: u32) -> vec2<u32> {
+// Along each axis, the texels of a level `src` big under texel `k` of the
+// level `out` big after it: its two (`lo`, `hi`; one where `src` is 1), and
+// at the last row or column of an odd level also `last`, the third
+// (`extra`). `src` is at most 2 out + 1, so that is all an odd level leaves.
+struct Footprint {
+    lo: vec2<u32>,
+    hi: vec2<u32>,
+    last: vec2<u32>,
+    extra: vec2<bool>,
+}
+
+fn footprint(k: vec2<u32>, out: vec2<u32>, src: vec2<u32>) -> Footprint {
     let lo = k * 2u;
-    var hi = min(lo + 1u, src - 1u);
-    if (k + 1u == out) {
-        hi = src - 1u;
-    }
-    return vec2<u32>(lo, hi);
+    let last = src - 1u;
+    let hi = min(lo + 1u, last);
+    return Footprint(lo, hi, last, (k + 1u == out) & (hi < last));
+}
+
+fn hiz_at(p: vec2<u32>) -> f32 {
+    return textureLoad(hiz_source, p, 0).r;
 }
 
 // The nearest depth of `hiz_source` under texel `k` of a level `out` big.
 fn nearest_under(k: vec2<u32>, out: vec2<u32>) -> f32 {
-    let src = textureDimensions(hiz_source);
-    let fx = footprint(k.x, out.x, src.x);
-    let fy = footprint(k.y, out.y, src.y);
-    var nearest = 0.0;
-    for (var y = fy.x; y <= fy.y; y++) {
-        for (var x = fx.x; x <= fx.y; x++) {
-            nearest = max(nearest, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
-        }
+    let f = footprint(k, out, textureDimensions(hiz_source));
+    var nearest = max(
+        max(hiz_at(f.lo), hiz_at(vec2<u32>(f.hi.x, f.lo.y))),
+        max(hiz_at(vec2<u32>(f.lo.x, f.hi.y)), hiz_at(f.hi)),
+    );
+    if (f.extra.x) {
+        nearest = max(nearest, max(hiz_at(vec2<u32>(f.last.x, f.lo.y)), hiz_at(vec2<u32>(f.last.x, f.hi.y))));
+    }
+    if (f.extra.y) {
+        nearest = max(nearest, max(hiz_at(vec2<u32>(f.lo.x, f.last.y)), hiz_at(vec2<u32>(f.hi.x, f.last.y))));
+    }
+    if (all(f.extra)) {
+        nearest = max(nearest, hiz_at(f.last));
     }
     return nearest;
 }
 
+// A depth texel as mip 0 keeps it (NaN as 0), written there.
+fn depth_copied(p: vec2<u32>) -> f32 {
+    let d = textureLoad(depth, p, 0).r;
+    let clean = select(0.0, d, d == d);
+    textureStore(out_hiz, p, vec4<f32>(clean, 0.0, 0.0, 0.0));
+    return clean;
+}
+
 // Mip 0 (the depth, NaN as 0) and mip 1: a thread per mip 1 texel copies
 // the depth texels under it. The footprints tile mip 0, so each is
-// written once.
+// written once (twice with the same value where a side is 1 texel).
 @compute @workgroup_size(8, 8)
 fn hiz_first(@builtin(global_invocation_id) id: vec3<u32>) {
     let out_size = textureDimensions(out_hiz_next);
     if (id.x >= out_size.x || id.y >= out_size.y) {
         return;
     }
-    let src_size = textureDimensions(depth);
-    let fx = footprint(id.x, out_size.x, src_size.x);
-    let fy = footprint(id.y, out_size.y, src_size.y);
-    var nearest = 0.0;
-    for (var y = fy.x; y <= fy.y; y++) {
-        for (var x = fx.x; x <= fx.y; x++) {
-            let d = textureLoad(depth, vec2<u32>(x, y), 0).r;
-            let clean = select(0.0, d, d == d);
-            textureStore(out_hiz, vec2<u32>(x, y), vec4<f32>(clean, 0.0, 0.0, 0.0));
-            nearest = max(nearest, clean);
-        }
+    let f = footprint(id.xy, out_size, textureDimensions(depth));
+    var nearest = max(
+        max(depth_copied(f.lo), depth_copied(vec2<u32>(f.hi.x, f.lo.y))),
+        max(depth_copied(vec2<u32>(f.lo.x, f.hi.y)), depth_copied(f.hi)),
+    );
+    if (f.extra.x) {
+        nearest = max(nearest, max(depth_copied(vec2<u32>(f.last.x, f.lo.y)), depth_copied(vec2<u32>(f.last.x, f.hi.y))));
+    }
+    if (f.extra.y) {
+        nearest = max(nearest, max(depth_copied(vec2<u32>(f.lo.x, f.last.y)), depth_copied(vec2<u32>(f.hi.x, f.last.y))));
+    }
+    if (all(f.extra)) {
+        nearest = max(nearest, depth_copied(f.last));
     }
     textureStore(out_hiz_next, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
+}
+
+// A texel of out_hiz (a level `size` big) made from hiz_source, written there.
+fn mid_texel(p: vec2<u32>, size: vec2<u32>) -> f32 {
+    let nearest = nearest_under(p, size);
+    textureStore(out_hiz, p, vec4<f32>(nearest, 0.0, 0.0, 0.0));
+    return nearest;
 }
 
 // Two levels from `hiz_source`: a thread per texel of the second
@@ -158,16 +204,20 @@ fn hiz_down2(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= out_size.x || id.y >= out_size.y) {
         return;
     }
-    let mid_size = textureDimensions(out_hiz);
-    let mx = footprint(id.x, out_size.x, mid_size.x);
-    let my = footprint(id.y, out_size.y, mid_size.y);
-    var nearest = 0.0;
-    for (var y1 = my.x; y1 <= my.y; y1++) {
-        for (var x1 = mx.x; x1 <= mx.y; x1++) {
-            let cell = nearest_under(vec2<u32>(x1, y1), mid_size);
-            textureStore(out_hiz, vec2<u32>(x1, y1), vec4<f32>(cell, 0.0, 0.0, 0.0));
-            nearest = max(nearest, cell);
-        }
+    let mid = textureDimensions(out_hiz);
+    let f = footprint(id.xy, out_size, mid);
+    var nearest = max(
+        max(mid_texel(f.lo, mid), mid_texel(vec2<u32>(f.hi.x, f.lo.y), mid)),
+        max(mid_texel(vec2<u32>(f.lo.x, f.hi.y), mid), mid_texel(f.hi, mid)),
+    );
+    if (f.extra.x) {
+        nearest = max(nearest, max(mid_texel(vec2<u32>(f.last.x, f.lo.y), mid), mid_texel(vec2<u32>(f.last.x, f.hi.y), mid)));
+    }
+    if (f.extra.y) {
+        nearest = max(nearest, max(mid_texel(vec2<u32>(f.lo.x, f.last.y), mid), mid_texel(vec2<u32>(f.hi.x, f.last.y), mid)));
+    }
+    if (all(f.extra)) {
+        nearest = max(nearest, mid_texel(f.last, mid));
     }
     textureStore(out_hiz_next, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
 }
@@ -179,6 +229,80 @@ fn hiz_down(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     textureStore(out_hiz, id.xy, vec4<f32>(nearest_under(id.xy, out_size), 0.0, 0.0, 0.0));
+}
+
+// hiz_tail's levels in workgroup memory: the first (at most 32 x 32) from
+// offset 0, the next from TAIL_SECOND, and on alternating between the two.
+const TAIL_SECOND: u32 = 1024u;
+var<workgroup> tail_levels: array<f32, 1280>;
+
+fn tail_store(slot: u32, p: vec2<u32>, nearest: f32) {
+    let v = vec4<f32>(nearest, 0.0, 0.0, 0.0);
+    switch slot {
+        case 0u: { textureStore(out_tail_0, p, v); }
+        case 1u: { textureStore(out_tail_1, p, v); }
+        case 2u: { textureStore(out_tail_2, p, v); }
+        case 3u: { textureStore(out_tail_3, p, v); }
+        case 4u: { textureStore(out_tail_4, p, v); }
+        default: { textureStore(out_tail_5, p, v); }
+    }
+}
+
+fn tail_at(base: u32, width: u32, p: vec2<u32>) -> f32 {
+    return tail_levels[base + p.y * width + p.x];
+}
+
+// The nearest of the workgroup's level at `base` (`src` big) under texel
+// `k` of a level `out` big: nearest_under's rule.
+fn tail_nearest(base: u32, src: vec2<u32>, k: vec2<u32>, out: vec2<u32>) -> f32 {
+    let f = footprint(k, out, src);
+    let w = src.x;
+    var nearest = max(
+        max(tail_at(base, w, f.lo), tail_at(base, w, vec2<u32>(f.hi.x, f.lo.y))),
+        max(tail_at(base, w, vec2<u32>(f.lo.x, f.hi.y)), tail_at(base, w, f.hi)),
+    );
+    if (f.extra.x) {
+        nearest = max(nearest, max(tail_at(base, w, vec2<u32>(f.last.x, f.lo.y)), tail_at(base, w, vec2<u32>(f.last.x, f.hi.y))));
+    }
+    if (f.extra.y) {
+        nearest = max(nearest, max(tail_at(base, w, vec2<u32>(f.lo.x, f.last.y)), tail_at(base, w, vec2<u32>(f.hi.x, f.last.y))));
+    }
+    if (all(f.extra)) {
+        nearest = max(nearest, tail_at(base, w, f.last));
+    }
+    return nearest;
+}
+
+// Every level after hiz_source's down to 1 x 1, in one workgroup: the
+// first (at most 32 a side: mip_chain.rs's TAIL_SIDE) from hiz_source, each next from the one
+// before it in workgroup memory, a barrier between levels. One dispatch
+// instead of one for every level or two, each of which would wait for the
+// one before it with a handful of busy threads.
+@compute @workgroup_size(16, 16)
+fn hiz_tail(@builtin(local_invocation_index) thread: u32) {
+    var size = max(textureDimensions(hiz_source) >> vec2<u32>(1u), vec2<u32>(1u));
+    for (var i = thread; i < size.x * size.y; i += 256u) {
+        let p = vec2<u32>(i % size.x, i / size.x);
+        let nearest = nearest_under(p, size);
+        tail_levels[i] = nearest;
+        tail_store(0u, p, nearest);
+    }
+    var base = 0u;
+    var slot = 1u;
+    while (size.x > 1u || size.y > 1u) {
+        workgroupBarrier();
+        let next = max(size >> vec2<u32>(1u), vec2<u32>(1u));
+        let next_base = select(0u, TAIL_SECOND, base == 0u);
+        for (var i = thread; i < next.x * next.y; i += 256u) {
+            let p = vec2<u32>(i % next.x, i / next.x);
+            let nearest = tail_nearest(base, size, p, next);
+            tail_levels[next_base + i] = nearest;
+            tail_store(slot, p, nearest);
+        }
+        size = next;
+        base = next_base;
+        slot += 1u;
+    }
 }
 
 fn view_position(uv: vec2<f32>, d: f32) -> vec3<f32> {

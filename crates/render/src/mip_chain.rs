@@ -9,7 +9,10 @@
 //! chain), `first` writes levels 0 and 1 from the source, `down` one level
 //! from the level above, and `down2`, where a shader has one, two levels a
 //! dispatch (a thread per texel of the second makes the texels of the
-//! first under it, and keeps them to reduce).
+//! first under it, and keeps them to reduce), and `tail`, where a shader has
+//! one, every level from the first of at most [`TAIL_SIDE`] texels a side
+//! down to 1x1 in one workgroup (a level a barrier, through workgroup
+//! memory, instead of a dispatch a level or two).
 
 use smallvec::SmallVec;
 
@@ -42,6 +45,22 @@ pub fn texture(
     })
 }
 
+/// The largest side of the first level a [`MipTail`] makes: its
+/// workgroup keeps a level of up to TAIL_SIDE x TAIL_SIDE in workgroup
+/// memory.
+pub const TAIL_SIDE: u32 = 32;
+
+/// The levels a tail writes at most: a level of TAIL_SIDE a side and every
+/// one after it down to 1x1.
+pub const TAIL_LEVELS: usize = TAIL_SIDE.ilog2() as usize + 1;
+
+/// A chain shader's entry point that makes every remaining level in one
+/// workgroup, and the storage bindings of those levels, first level first.
+pub struct MipTail {
+    pub entry: &'static str,
+    pub outs: [&'static str; TAIL_LEVELS],
+}
+
 /// A chain shader's entry points and the names of its bindings.
 pub struct MipChainShader {
     /// Copies the source into level 0 (a chain of one level).
@@ -52,6 +71,9 @@ pub struct MipChainShader {
     pub down: &'static str,
     /// Writes two levels from the one above them, where the shader has it.
     pub down2: Option<&'static str>,
+    /// Writes every level from one of at most TAIL_SIDE a side, where the
+    /// shader has it.
+    pub tail: Option<MipTail>,
     /// The source image (a declared texture).
     pub source: &'static str,
     /// The level a `down` or `down2` step reads.
@@ -62,34 +84,87 @@ pub struct MipChainShader {
 }
 
 /// One dispatch of a chain: its entry point and the levels it writes,
-/// `first..=last` (one or two); it reads the source image where `first`
-/// is 0, else the level above `first`.
+/// `first..=last` (one or two, or a tail's); it reads the source image
+/// where `first` is 0, else the level above `first`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MipStep {
     pub entry: &'static str,
     pub first: usize,
     pub last: usize,
+    /// A tail: one workgroup writes `first..=last`.
+    pub tail: bool,
+}
+
+/// Level `m`'s size in a chain whose level 0 is `size`.
+fn level_size(size: (u32, u32), m: usize) -> (u32, u32) {
+    ((size.0 >> m).max(1), (size.1 >> m).max(1))
 }
 
 impl MipChainShader {
-    /// The dispatches that fill a chain of `levels` levels, in order: two
-    /// levels a dispatch where the shader has `down2`, one otherwise.
-    pub fn plan(&self, levels: usize) -> Vec<MipStep> {
-        let step = |entry, first, last| MipStep { entry, first, last };
+    /// The dispatches that fill a chain of `levels` levels whose level 0 is
+    /// `size`, in order: two levels a dispatch where the shader has
+    /// `down2`, one otherwise, and, where it has a tail and the device
+    /// binds `storage_textures` enough, every level from the first of at
+    /// most TAIL_SIDE a side in one more.
+    pub fn plan(&self, size: (u32, u32), levels: usize, storage_textures: u32) -> Vec<MipStep> {
+        let step = |entry, first, last| MipStep {
+            entry,
+            first,
+            last,
+            tail: false,
+        };
         if levels <= 1 {
             return vec![step(self.copy, 0, 0)];
         }
+        let tail = self.tail_start(size, levels, storage_textures);
         let mut plan = vec![step(self.first, 0, 1)];
         let mut made = 1;
         while made + 1 < levels {
+            if let Some((entry, first)) = tail
+                && made + 1 == first
+            {
+                plan.push(MipStep {
+                    entry,
+                    first,
+                    last: levels - 1,
+                    tail: true,
+                });
+                break;
+            }
             let next = match self.down2 {
-                Some(entry) if made + 2 < levels => step(entry, made + 1, made + 2),
+                Some(entry) if made + 2 < levels && tail.is_none_or(|(_, t)| made + 2 < t) => {
+                    step(entry, made + 1, made + 2)
+                }
                 _ => step(self.down, made + 1, made + 1),
             };
             made = next.last;
             plan.push(next);
         }
         plan
+    }
+
+    /// Where a tail takes over, if it can: its entry and the first level
+    /// it writes, the first of at most TAIL_SIDE a side after level 1. Its
+    /// TAIL_LEVELS bindings need as many distinct levels: those it writes,
+    /// and, for the ones past the chain's end, levels above the one it
+    /// reads (bound, never written).
+    fn tail_start(
+        &self,
+        size: (u32, u32),
+        levels: usize,
+        storage_textures: u32,
+    ) -> Option<(&'static str, usize)> {
+        let tail = self.tail.as_ref()?;
+        if (storage_textures as usize) < TAIL_LEVELS {
+            return None;
+        }
+        let first = (2..levels).find(|&m| {
+            let (w, h) = level_size(size, m);
+            w <= TAIL_SIDE && h <= TAIL_SIDE
+        })?;
+        let written = levels - first;
+        let spare = first - 1;
+        (written <= TAIL_LEVELS && written + spare >= TAIL_LEVELS).then_some((tail.entry, first))
     }
 
     /// What `step` binds: the source image or the level above, the level
@@ -104,6 +179,16 @@ impl MipChainShader {
             0 => Bindings::new().texture(self.source, source),
             m => Bindings::new().view(self.level_in, levels[m - 1].clone()),
         };
+        if step.tail {
+            let outs = &self.tail.as_ref().expect("a tail step has a tail").outs;
+            let written = step.first..=step.last;
+            // Past the chain's end, the levels above the one the tail reads.
+            let spare = 0..step.first - 1;
+            return outs
+                .iter()
+                .zip(written.chain(spare))
+                .fold(bindings, |b, (name, m)| b.view(name, levels[m].clone()));
+        }
         let bindings = bindings.view(self.out, levels[step.first].clone());
         if step.last > step.first {
             bindings.view(self.out_next, levels[step.last].clone())
@@ -126,15 +211,22 @@ impl MipChainShader {
         levels: &[wgpu::TextureView],
         size: (u32, u32),
     ) -> Result<u64, RenderError> {
-        let plan = self.plan(levels.len());
+        let storage_textures = cx.gpu.device.limits().max_storage_textures_per_shader_stage;
+        let plan = self.plan(size, levels.len(), storage_textures);
         let mut steps = Vec::with_capacity(plan.len());
         for step in plan {
             let bindings = self.bindings(step, source, levels);
             let pipeline = cx.compute_pipeline(key, step.entry)?;
             let groups = cx.bind_groups(key, step.entry, &pipeline, bindings)?;
-            // A thread per texel of the last level the step writes.
-            let (w, h) = ((size.0 >> step.last).max(1), (size.1 >> step.last).max(1));
-            steps.push((pipeline, groups, (w.div_ceil(8), h.div_ceil(8))));
+            // A thread per texel of the last level the step writes; a tail
+            // is one workgroup.
+            let (w, h) = level_size(size, step.last);
+            let groups_xy = if step.tail {
+                (1, 1)
+            } else {
+                (w.div_ceil(8), h.div_ceil(8))
+            };
+            steps.push((pipeline, groups, groups_xy));
         }
         for (pipeline, groups, (x, y)) in &steps {
             let groups: SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();
@@ -154,6 +246,7 @@ mod tests {
             first: "first",
             down: "down",
             down2,
+            tail: None,
             source: "image",
             level_in: "level_in",
             out: "out",
@@ -162,11 +255,90 @@ mod tests {
     }
 
     fn shape(down2: Option<&'static str>, levels: usize) -> Vec<(&'static str, usize, usize)> {
+        // A size whose chain has `levels` levels (its width 2^(levels-1)).
+        let size = (1 << (levels - 1), 1);
         shader(down2)
-            .plan(levels)
+            .plan(size, levels, 8)
             .into_iter()
             .map(|s| (s.entry, s.first, s.last))
             .collect()
+    }
+
+    fn with_tail() -> MipChainShader {
+        MipChainShader {
+            tail: Some(MipTail {
+                entry: "tail",
+                outs: ["t0", "t1", "t2", "t3", "t4", "t5"],
+            }),
+            ..shader(Some("down2"))
+        }
+    }
+
+    fn tail_shape(size: (u32, u32), storage: u32) -> Vec<(&'static str, usize, usize)> {
+        let levels = crate::texture::mips::level_count(size.0, size.1) as usize;
+        with_tail()
+            .plan(size, levels, storage)
+            .into_iter()
+            .map(|s| (s.entry, s.first, s.last))
+            .collect()
+    }
+
+    #[test]
+    fn a_tail_makes_every_level_from_the_first_of_32_a_side() {
+        // 1920x1080: levels 6 (30x16) to 10 (1x1) in one workgroup.
+        assert_eq!(
+            tail_shape((1920, 1080), 8),
+            vec![
+                ("first", 0, 1),
+                ("down2", 2, 3),
+                ("down2", 4, 5),
+                ("tail", 6, 10)
+            ]
+        );
+        // 3840x2160: level 6 (60x33) alone, then 7 (30x16) to 11.
+        assert_eq!(
+            tail_shape((3840, 2160), 8),
+            vec![
+                ("first", 0, 1),
+                ("down2", 2, 3),
+                ("down2", 4, 5),
+                ("down", 6, 6),
+                ("tail", 7, 11)
+            ]
+        );
+        // 99x61: level 2 (24x15) is already small enough.
+        assert_eq!(
+            tail_shape((99, 61), 8),
+            vec![("first", 0, 1), ("tail", 2, 6)]
+        );
+    }
+
+    #[test]
+    fn no_tail_where_the_device_or_the_chain_cannot_bind_its_levels() {
+        // Four storage textures (WebGPU's minimum): two levels a dispatch.
+        assert_eq!(
+            tail_shape((1920, 1080), 4),
+            vec![
+                ("first", 0, 1),
+                ("down2", 2, 3),
+                ("down2", 4, 5),
+                ("down2", 6, 7),
+                ("down2", 8, 9),
+                ("down", 10, 10)
+            ]
+        );
+        // 16x16: levels 2 to 4 are three, and only level 0 is spare to bind
+        // the other three slots to.
+        assert_eq!(
+            tail_shape((16, 16), 8),
+            vec![("first", 0, 1), ("down2", 2, 3), ("down", 4, 4)]
+        );
+        // 64x64: level 1 (32x32) is small enough, but a tail reads a level
+        // of the chain: from level 2, levels 2 to 6 and level 0 bind its six.
+        assert_eq!(
+            tail_shape((64, 64), 8),
+            vec![("first", 0, 1), ("tail", 2, 6)]
+        );
     }
 
     #[test]

@@ -1,4 +1,5 @@
-//! SSR's hierarchical depth, built two levels a dispatch: every level is
+//! SSR's hierarchical depth, built two levels a dispatch and the small
+//! levels in one workgroup: every level is
 //! the nearest (largest reversed-Z) depth under each texel, its 2x2 and at
 //! the last row or column whatever an odd level leaves, checked level by
 //! level against the same rule on the CPU, at a size whose levels are odd.
@@ -18,12 +19,7 @@ use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
 use spreadlight_render::{Renderer, SizeRule};
 
-/// 99 x 61: levels of 49 x 30, 24 x 15, 12 x 7, 6 x 3, 3 x 1, 1 x 1 (seven
-/// in all), so each kind of dispatch meets a level it must halve from an odd
-/// one, along x and along y.
-const SIZE: (u32, u32) = (99, 61);
-
-fn gbuffer(renderer: &Renderer) -> Arc<GBuffer> {
+fn gbuffer(renderer: &Renderer, size: (u32, u32)) -> Arc<GBuffer> {
     let layer =
         balls_on_floor(renderer, &[(Vec3::new(0.0, 0.6, 0.0), 0.6)], 8.0, 32).expect("upload");
     let camera = CameraInput {
@@ -37,7 +33,7 @@ fn gbuffer(renderer: &Renderer) -> Arc<GBuffer> {
         ),
         projection: glam::camera::rh::proj::directx::perspective(
             1.0,
-            SIZE.0 as f32 / SIZE.1 as f32,
+            size.0 as f32 / size.1 as f32,
             0.1,
             100.0,
         ),
@@ -85,11 +81,27 @@ fn downsample(level: &ImageF32) -> ImageF32 {
     }
 }
 
+/// 99 x 61: levels of 49 x 30, 24 x 15, 12 x 7, 6 x 3, 3 x 1, 1 x 1 (seven
+/// in all): the copy and mip 1 from an odd depth, then levels 2 (24 x 15) to
+/// 6 in one workgroup, which halves odd levels along x and along y.
 #[test]
 fn every_hi_z_level_is_the_nearest_depth_under_it_at_odd_sizes() {
+    hi_z_is_the_nearest_depth_under_it((99, 61), 2);
+}
+
+/// 601 x 7: levels of 300 x 3, 150 x 1, 75 x 1, 37 x 1, 18 x 1 ... 1 x 1 (ten
+/// in all): the copy and mip 1 (odd along both axes), mips 2 and 3 together
+/// (mip 2's one row from mip 1's three), mip 4 alone (37 from 75), then 5
+/// (18 x 1) to 9 in one workgroup.
+#[test]
+fn every_hi_z_level_is_the_nearest_depth_under_it_through_every_kind_of_dispatch() {
+    hi_z_is_the_nearest_depth_under_it((601, 7), 4);
+}
+
+fn hi_z_is_the_nearest_depth_under_it(size: (u32, u32), dispatches: u64) {
     let renderer = test_renderer();
-    let g = gbuffer(&renderer);
-    let lit = image(&renderer, SIZE, |_, _| [0.5, 0.5, 0.5, 1.0]);
+    let g = gbuffer(&renderer, size);
+    let lit = image(&renderer, size, |_, _| [0.5, 0.5, 0.5, 1.0]);
     let mirror = Material::new()
         .with(Feature::CookTorrance, &[[0.0, 1.0, 0.04, 0.0]])
         .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
@@ -107,16 +119,16 @@ fn every_hi_z_level_is_the_nearest_depth_under_it_at_odd_sizes() {
     let (report, images) = render_and_read(
         &renderer,
         ssr.as_ref(),
-        SIZE,
+        size,
         &[&ssr.output, &g.targets.depth],
     )
     .expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    // Copy and mip 1, then 2-3 and 4-5 together, then 6 alone.
-    assert_eq!(report.counter(SSR_HIZ_DISPATCHES), 4);
+    assert_eq!(report.counter(SSR_HIZ_DISPATCHES), dispatches);
     let depth = &images[1];
     let hiz = ssr.hi_z().expect("the hi-z was built");
-    assert_eq!(hiz.mip_level_count(), 7);
+    let levels = 32 - size.0.max(size.1).leading_zeros();
+    assert_eq!(hiz.mip_level_count(), levels);
     let mut below = read_texture(&renderer.gpu, &hiz).expect("reads");
     assert!(
         below

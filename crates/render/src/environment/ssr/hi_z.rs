@@ -1,25 +1,38 @@
 //! SSR's hierarchical depth: mip 0 the G-buffer's reversed-Z depth, each
 //! further mip the nearest (max) of the texels under it, two levels a
-//! dispatch (shaders/environment/ssr.wgsl, `hiz_first` / `hiz_down2`).
+//! dispatch and the small ones in one workgroup
+//! (shaders/environment/ssr.wgsl, `hiz_first` / `hiz_down2` / `hiz_tail`).
 
 use super::super::prefilter::split_sum_table;
 use super::{Ssr, SsrKey};
 use crate::error::RenderError;
 use crate::frame_graph::{PassContext, Tex};
-use crate::mip_chain::MipChainShader;
+use crate::mip_chain::{MipChainShader, MipTail};
 use crate::shaders::Permutation;
 
 /// Statistic: the dispatches that built the hierarchical depth (two levels
-/// each where they can).
+/// each where they can, the small levels in one).
 pub const HIZ_DISPATCHES: &str = "SSR hi-z dispatches";
 
 /// The hi-z's entry points and bindings in `environment/ssr.wgsl`: two
-/// levels a dispatch where it can.
+/// levels a dispatch where it can, and every level from the first of at
+/// most 32 a side in one workgroup.
 const SHADER: MipChainShader = MipChainShader {
     copy: "hiz_copy",
     first: "hiz_first",
     down: "hiz_down",
     down2: Some("hiz_down2"),
+    tail: Some(MipTail {
+        entry: "hiz_tail",
+        outs: [
+            "out_tail_0",
+            "out_tail_1",
+            "out_tail_2",
+            "out_tail_3",
+            "out_tail_4",
+            "out_tail_5",
+        ],
+    }),
     source: "depth",
     level_in: "hiz_source",
     out: "out_hiz",

@@ -475,7 +475,7 @@ impl Recipe for Ssr {
         // The pipelines the hi-z, the trace and the resolve dispatch
         // (frame_graph/gather.rs; the hi-z's entries as hi_z.rs names them).
         let plain = SsrKey::PLAIN.key();
-        for entry in ["hiz_first", "hiz_down", "hiz_down2"] {
+        for entry in ["hiz_first", "hiz_down", "hiz_down2", "hiz_tail"] {
             fg.will_dispatch(&plain, entry);
         }
         fg.will_dispatch(&self.trace_key(self.fused()).key(), "main");

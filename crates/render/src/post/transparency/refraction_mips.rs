@@ -73,6 +73,7 @@ const SHADER: MipChainShader = MipChainShader {
     first: "refraction_mips_first",
     down: "refraction_mips_down",
     down2: None,
+    tail: None,
     source: "mips_image",
     level_in: "mips_source",
     out: "mips_out",
