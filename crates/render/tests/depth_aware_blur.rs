@@ -549,13 +549,7 @@ fn check_even_pixels(
 /// is NaN or infinite.
 #[test]
 fn the_half_chain_ao_blur_is_the_gaussian_at_half_size() {
-    for (radius, combine) in [
-        (1u32, false),
-        (4, false),
-        (4, true),
-        (7, false),
-        (16, false),
-    ] {
+    for (radius, combine) in [(1u32, false), (4, false), (4, true), (7, false)] {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
         let settings = AoSettings {
