@@ -132,6 +132,35 @@ fn footprint(k: vec2<u32>, out: vec2<u32>, src: vec2<u32>) -> Footprint {
     return Footprint(lo, hi, last, (k + 1u == out) & (hi < last));
 }
 
+// Texel `i` (0..4) of a footprint's 2x2: (lo, lo), (hi, lo), (lo, hi), (hi, hi).
+// A caller reads all four without a loop, so the loads do not wait on
+// each other.
+fn corner(f: Footprint, i: u32) -> vec2<u32> {
+    return vec2<u32>(select(f.lo.x, f.hi.x, (i & 1u) != 0u), select(f.lo.y, f.hi.y, i >= 2u));
+}
+
+// How many texels an odd level leaves beyond the 2x2: its third column's
+// two, its third row's two, and where both, their corner.
+fn extra_count(f: Footprint) -> u32 {
+    return select(0u, 2u, f.extra.x) + select(0u, 2u, f.extra.y) + select(0u, 1u, all(f.extra));
+}
+
+// Extra texel `i` (0..extra_count): the third column's, then the third
+// row's, then the corner.
+fn extra_texel(f: Footprint, i: u32) -> vec2<u32> {
+    var j = i;
+    if (f.extra.x) {
+        if (j < 2u) {
+            return vec2<u32>(f.last.x, select(f.lo.y, f.hi.y, j == 1u));
+        }
+        j -= 2u;
+    }
+    if (f.extra.y && j < 2u) {
+        return vec2<u32>(select(f.lo.x, f.hi.x, j == 1u), f.last.y);
+    }
+    return f.last;
+}
+
 fn hiz_at(p: vec2<u32>) -> f32 {
     return textureLoad(hiz_source, p, 0).r;
 }
@@ -139,18 +168,9 @@ fn hiz_at(p: vec2<u32>) -> f32 {
 // The nearest depth of `hiz_source` under texel `k` of a level `out` big.
 fn nearest_under(k: vec2<u32>, out: vec2<u32>) -> f32 {
     let f = footprint(k, out, textureDimensions(hiz_source));
-    var nearest = max(
-        max(hiz_at(f.lo), hiz_at(vec2<u32>(f.hi.x, f.lo.y))),
-        max(hiz_at(vec2<u32>(f.lo.x, f.hi.y)), hiz_at(f.hi)),
-    );
-    if (f.extra.x) {
-        nearest = max(nearest, max(hiz_at(vec2<u32>(f.last.x, f.lo.y)), hiz_at(vec2<u32>(f.last.x, f.hi.y))));
-    }
-    if (f.extra.y) {
-        nearest = max(nearest, max(hiz_at(vec2<u32>(f.lo.x, f.last.y)), hiz_at(vec2<u32>(f.hi.x, f.last.y))));
-    }
-    if (all(f.extra)) {
-        nearest = max(nearest, hiz_at(f.last));
+    var nearest = max(max(hiz_at(corner(f, 0u)), hiz_at(corner(f, 1u))), max(hiz_at(corner(f, 2u)), hiz_at(corner(f, 3u))));
+    for (var i = 0u; i < extra_count(f); i++) {
+        nearest = max(nearest, hiz_at(extra_texel(f, i)));
     }
     return nearest;
 }
@@ -173,18 +193,9 @@ fn hiz_first(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let f = footprint(id.xy, out_size, textureDimensions(depth));
-    var nearest = max(
-        max(depth_copied(f.lo), depth_copied(vec2<u32>(f.hi.x, f.lo.y))),
-        max(depth_copied(vec2<u32>(f.lo.x, f.hi.y)), depth_copied(f.hi)),
-    );
-    if (f.extra.x) {
-        nearest = max(nearest, max(depth_copied(vec2<u32>(f.last.x, f.lo.y)), depth_copied(vec2<u32>(f.last.x, f.hi.y))));
-    }
-    if (f.extra.y) {
-        nearest = max(nearest, max(depth_copied(vec2<u32>(f.lo.x, f.last.y)), depth_copied(vec2<u32>(f.hi.x, f.last.y))));
-    }
-    if (all(f.extra)) {
-        nearest = max(nearest, depth_copied(f.last));
+    var nearest = max(max(depth_copied(corner(f, 0u)), depth_copied(corner(f, 1u))), max(depth_copied(corner(f, 2u)), depth_copied(corner(f, 3u))));
+    for (var i = 0u; i < extra_count(f); i++) {
+        nearest = max(nearest, depth_copied(extra_texel(f, i)));
     }
     textureStore(out_hiz_next, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
 }
@@ -206,18 +217,9 @@ fn hiz_down2(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let mid = textureDimensions(out_hiz);
     let f = footprint(id.xy, out_size, mid);
-    var nearest = max(
-        max(mid_texel(f.lo, mid), mid_texel(vec2<u32>(f.hi.x, f.lo.y), mid)),
-        max(mid_texel(vec2<u32>(f.lo.x, f.hi.y), mid), mid_texel(f.hi, mid)),
-    );
-    if (f.extra.x) {
-        nearest = max(nearest, max(mid_texel(vec2<u32>(f.last.x, f.lo.y), mid), mid_texel(vec2<u32>(f.last.x, f.hi.y), mid)));
-    }
-    if (f.extra.y) {
-        nearest = max(nearest, max(mid_texel(vec2<u32>(f.lo.x, f.last.y), mid), mid_texel(vec2<u32>(f.hi.x, f.last.y), mid)));
-    }
-    if (all(f.extra)) {
-        nearest = max(nearest, mid_texel(f.last, mid));
+    var nearest = max(max(mid_texel(corner(f, 0u), mid), mid_texel(corner(f, 1u), mid)), max(mid_texel(corner(f, 2u), mid), mid_texel(corner(f, 3u), mid)));
+    for (var i = 0u; i < extra_count(f); i++) {
+        nearest = max(nearest, mid_texel(extra_texel(f, i), mid));
     }
     textureStore(out_hiz_next, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
 }
@@ -257,18 +259,9 @@ fn tail_at(base: u32, width: u32, p: vec2<u32>) -> f32 {
 fn tail_nearest(base: u32, src: vec2<u32>, k: vec2<u32>, out: vec2<u32>) -> f32 {
     let f = footprint(k, out, src);
     let w = src.x;
-    var nearest = max(
-        max(tail_at(base, w, f.lo), tail_at(base, w, vec2<u32>(f.hi.x, f.lo.y))),
-        max(tail_at(base, w, vec2<u32>(f.lo.x, f.hi.y)), tail_at(base, w, f.hi)),
-    );
-    if (f.extra.x) {
-        nearest = max(nearest, max(tail_at(base, w, vec2<u32>(f.last.x, f.lo.y)), tail_at(base, w, vec2<u32>(f.last.x, f.hi.y))));
-    }
-    if (f.extra.y) {
-        nearest = max(nearest, max(tail_at(base, w, vec2<u32>(f.lo.x, f.last.y)), tail_at(base, w, vec2<u32>(f.hi.x, f.last.y))));
-    }
-    if (all(f.extra)) {
-        nearest = max(nearest, tail_at(base, w, f.last));
+    var nearest = max(max(tail_at(base, w, corner(f, 0u)), tail_at(base, w, corner(f, 1u))), max(tail_at(base, w, corner(f, 2u)), tail_at(base, w, corner(f, 3u))));
+    for (var i = 0u; i < extra_count(f); i++) {
+        nearest = max(nearest, tail_at(base, w, extra_texel(f, i)));
     }
     return nearest;
 }
