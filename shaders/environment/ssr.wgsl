@@ -4,14 +4,16 @@
 // G-buffer's reversed-Z depth, each further mip the MAX of the texels under
 // it (its 2x2, and at the last row or column what an odd level leaves).
 // Two levels a dispatch (hiz_first: the copy and mip 1; hiz_down2: the next
-// two from the one before), and every level of at most 32 texels a side in
-// one workgroup (hiz_tail, through workgroup memory), so the 11 levels of
-// 1080p take 4 dispatches: most levels are too small to fill the GPU, and
-// each dispatch costs a barrier. A texel's footprint is read with
-// independent loads (its 2x2, then an odd level's third row or column), so
-// a thread waits for one load's latency, not one per texel: at the small
-// levels there are too few threads to hide it. hiz_copy alone serves a 1x1
-// image; hiz_down an odd last level where the tail cannot serve. In
+// two from the one before), and from the first level after mip 1 of at most
+// 32 texels a side down to 1x1 in one workgroup (hiz_tail, through workgroup
+// memory; crates/render/src/mip_chain.rs says when a chain has a tail), so
+// the 11 levels of 1080p take 4 dispatches: most levels are too small to
+// fill the GPU, and each dispatch costs a barrier. A texel's footprint is
+// read with independent loads (its 2x2, then an odd level's third row or
+// column), so a thread waits for one load's latency, not one per texel: at
+// the small levels there are too few threads to hide it. hiz_copy alone
+// serves a 1x1 image; hiz_down one level where two would run past the chain's
+// end or into the tail's first. In
 // reversed-Z the max is the NEAREST surface of the cell (the farthest is
 // the min): a ray nearer than a cell's max is in front of everything in it
 // and may skip the whole cell; with the min it could skip past a near
@@ -84,9 +86,9 @@ struct Params {
 @group(0) @binding(12) var hiz_source: texture_2d<f32>;
 // The level after out_hiz's (hiz_first, hiz_down2).
 @group(0) @binding(16) var out_hiz_next: texture_storage_2d<r32float, write>;
-// hiz_tail's levels, the first after hiz_source's first; where the chain
-// has fewer, the rest are bound to levels the tail neither reads nor writes
-// (crates/render/src/mip_chain.rs).
+// hiz_tail's levels: slot 0 the level after hiz_source, each next slot the
+// level after; where the chain ends first, the rest are bound to levels the
+// tail neither reads nor writes (crates/render/src/mip_chain.rs, tail_slots).
 @group(0) @binding(17) var out_tail_0: texture_storage_2d<r32float, write>;
 @group(0) @binding(18) var out_tail_1: texture_storage_2d<r32float, write>;
 @group(0) @binding(19) var out_tail_2: texture_storage_2d<r32float, write>;

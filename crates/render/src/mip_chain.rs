@@ -95,6 +95,18 @@ pub struct MipStep {
     pub tail: bool,
 }
 
+impl MipStep {
+    /// The level bound to each of a tail's TAIL_LEVELS slots: the levels it
+    /// writes, first to last, then, past the chain's end, levels above the
+    /// one it reads (bound, never written). Distinct, and never the level
+    /// it reads: no level is bound twice or both read and written.
+    pub fn tail_slots(&self) -> impl Iterator<Item = usize> + use<> {
+        let written = self.first..=self.last;
+        let spare = 0..self.first.saturating_sub(1);
+        written.chain(spare).take(TAIL_LEVELS)
+    }
+}
+
 /// Level `m`'s size in a chain whose level 0 is `size`.
 fn level_size(size: (u32, u32), m: usize) -> (u32, u32) {
     ((size.0 >> m).max(1), (size.1 >> m).max(1))
@@ -116,6 +128,8 @@ impl MipChainShader {
         if levels <= 1 {
             return vec![step(self.copy, 0, 0)];
         }
+        // A tail writes down to 1x1: the chain must end there.
+        debug_assert_eq!(level_size(size, levels - 1), (1, 1), "a chain ends at 1x1");
         let tail = self.tail_start(size, levels, storage_textures);
         let mut plan = vec![step(self.first, 0, 1)];
         let mut made = 1;
@@ -181,12 +195,9 @@ impl MipChainShader {
         };
         if step.tail {
             let outs = &self.tail.as_ref().expect("a tail step has a tail").outs;
-            let written = step.first..=step.last;
-            // Past the chain's end, the levels above the one the tail reads.
-            let spare = 0..step.first - 1;
             return outs
                 .iter()
-                .zip(written.chain(spare))
+                .zip(step.tail_slots())
                 .fold(bindings, |b, (name, m)| b.view(name, levels[m].clone()));
         }
         let bindings = bindings.view(self.out, levels[step.first].clone());
@@ -311,6 +322,46 @@ mod tests {
             tail_shape((99, 61), 8),
             vec![("first", 0, 1), ("tail", 2, 6)]
         );
+        // 130x70: level 2 is 32x17, and the tail writes all six of its
+        // slots (levels 2 to 7).
+        assert_eq!(
+            tail_shape((130, 70), 8),
+            vec![("first", 0, 1), ("tail", 2, 7)]
+        );
+    }
+
+    #[test]
+    fn a_tails_slots_are_the_levels_it_writes_then_levels_above_the_one_it_reads() {
+        let slots = |size: (u32, u32)| {
+            let levels = crate::texture::mips::level_count(size.0, size.1) as usize;
+            let plan = with_tail().plan(size, levels, 8);
+            let tail = *plan.last().expect("a plan");
+            assert!(tail.tail, "{size:?}: {plan:?}");
+            assert!(plan[..plan.len() - 1].iter().all(|s| !s.tail));
+            (tail.first, tail.tail_slots().collect::<Vec<_>>())
+        };
+        assert_eq!(slots((1920, 1080)), (6, vec![6, 7, 8, 9, 10, 0]));
+        assert_eq!(slots((99, 61)), (2, vec![2, 3, 4, 5, 6, 0]));
+        assert_eq!(slots((130, 70)), (2, vec![2, 3, 4, 5, 6, 7]));
+        assert_eq!(slots((3840, 2160)), (7, vec![7, 8, 9, 10, 11, 0]));
+        for size in [
+            (64, 64),
+            (601, 7),
+            (1920, 1080),
+            (3840, 2160),
+            (99, 61),
+            (130, 70),
+        ] {
+            let (first, slots) = slots(size);
+            let mut distinct = slots.clone();
+            distinct.sort_unstable();
+            distinct.dedup();
+            assert_eq!(distinct.len(), TAIL_LEVELS, "{size:?}: {slots:?}");
+            assert!(
+                !slots.contains(&(first - 1)),
+                "{size:?} binds the level it reads"
+            );
+        }
     }
 
     #[test]

@@ -98,6 +98,15 @@ fn every_hi_z_level_is_the_nearest_depth_under_it_through_every_kind_of_dispatch
     hi_z_is_the_nearest_depth_under_it((601, 7), 4);
 }
 
+/// 130 x 70: levels of 65 x 35, 32 x 17, 16 x 8 ... 1 x 1 (eight in all): the
+/// copy and mip 1, then 2 (32 x 17, the widest level a tail starts from,
+/// made from an odd one along both axes) to 7 in one workgroup, every one of
+/// its six slots a level it writes.
+#[test]
+fn every_hi_z_level_is_the_nearest_depth_under_it_when_the_tail_fills_all_its_slots() {
+    hi_z_is_the_nearest_depth_under_it((130, 70), 2);
+}
+
 fn hi_z_is_the_nearest_depth_under_it(size: (u32, u32), dispatches: u64) {
     let renderer = test_renderer();
     let g = gbuffer(&renderer, size);

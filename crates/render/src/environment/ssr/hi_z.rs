@@ -15,8 +15,9 @@ use crate::shaders::Permutation;
 pub const HIZ_DISPATCHES: &str = "SSR hi-z dispatches";
 
 /// The hi-z's entry points and bindings in `environment/ssr.wgsl`: two
-/// levels a dispatch where it can, and every level from the first of at
-/// most 32 a side in one workgroup.
+/// levels a dispatch where it can, and, where the chain and the device
+/// allow a tail (mip_chain.rs), every level from the first after mip 1 of
+/// at most 32 a side in one workgroup.
 const SHADER: MipChainShader = MipChainShader {
     copy: "hiz_copy",
     first: "hiz_first",
