@@ -265,14 +265,22 @@ mod tests {
         }
     }
 
-    fn shape(down2: Option<&'static str>, levels: usize) -> Vec<(&'static str, usize, usize)> {
-        // A size whose chain has `levels` levels (its width 2^(levels-1)).
-        let size = (1 << (levels - 1), 1);
-        shader(down2)
-            .plan(size, levels, 8)
-            .into_iter()
+    /// `shader`'s plan for a whole chain whose level 0 is `size`.
+    fn plan_for(shader: &MipChainShader, size: (u32, u32), storage: u32) -> Vec<MipStep> {
+        let levels = crate::texture::mips::level_count(size.0, size.1) as usize;
+        shader.plan(size, levels, storage)
+    }
+
+    /// Each step's entry and the levels it writes.
+    fn entries(plan: Vec<MipStep>) -> Vec<(&'static str, usize, usize)> {
+        plan.into_iter()
             .map(|s| (s.entry, s.first, s.last))
             .collect()
+    }
+
+    fn shape(down2: Option<&'static str>, levels: usize) -> Vec<(&'static str, usize, usize)> {
+        // A size whose chain has `levels` levels (its width 2^(levels-1)).
+        entries(plan_for(&shader(down2), (1 << (levels - 1), 1), 8))
     }
 
     fn with_tail() -> MipChainShader {
@@ -286,12 +294,7 @@ mod tests {
     }
 
     fn tail_shape(size: (u32, u32), storage: u32) -> Vec<(&'static str, usize, usize)> {
-        let levels = crate::texture::mips::level_count(size.0, size.1) as usize;
-        with_tail()
-            .plan(size, levels, storage)
-            .into_iter()
-            .map(|s| (s.entry, s.first, s.last))
-            .collect()
+        entries(plan_for(&with_tail(), size, storage))
     }
 
     #[test]
@@ -333,8 +336,7 @@ mod tests {
     #[test]
     fn a_tails_slots_are_the_levels_it_writes_then_levels_above_the_one_it_reads() {
         let slots = |size: (u32, u32)| {
-            let levels = crate::texture::mips::level_count(size.0, size.1) as usize;
-            let plan = with_tail().plan(size, levels, 8);
+            let plan = plan_for(&with_tail(), size, 8);
             let tail = *plan.last().expect("a plan");
             assert!(tail.tail, "{size:?}: {plan:?}");
             assert!(plan[..plan.len() - 1].iter().all(|s| !s.tail));

@@ -17,6 +17,7 @@ use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, read_texture, read_texture_layer, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
+use spreadlight_render::texture::mips::level_count;
 use spreadlight_render::{Renderer, SizeRule};
 
 fn gbuffer(renderer: &Renderer, size: (u32, u32)) -> Arc<GBuffer> {
@@ -136,8 +137,7 @@ fn hi_z_is_the_nearest_depth_under_it(size: (u32, u32), dispatches: u64) {
     assert_eq!(report.counter(SSR_HIZ_DISPATCHES), dispatches);
     let depth = &images[1];
     let hiz = ssr.hi_z().expect("the hi-z was built");
-    let levels = 32 - size.0.max(size.1).leading_zeros();
-    assert_eq!(hiz.mip_level_count(), levels);
+    assert_eq!(hiz.mip_level_count(), level_count(size.0, size.1));
     let mut below = read_texture(&renderer.gpu, &hiz).expect("reads");
     assert!(
         below
