@@ -132,6 +132,9 @@ impl ColdStart {
                 "waited": a.waited,
                 "waited_ms": ms(a.wait.as_secs_f64()),
                 "claimed": a.claimed,
+                "busy_ms": ms(a.busy.as_secs_f64()),
+                "modules_ms": ms(a.modules.as_secs_f64()),
+                "longest_ms": ms(a.longest.as_secs_f64()),
                 "wall_ms": (a.wall > std::time::Duration::ZERO).then(|| ms(a.wall.as_secs_f64())),
             })
         };
@@ -166,6 +169,7 @@ impl ColdStart {
             "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
                 "path": path.display().to_string(),
                 "loaded_bytes": bytes,
+                "driver_disk_cache_off": spreadlight_render::pipeline_cache::driver_disk_cache_turned_off(),
             })),
         })
     }

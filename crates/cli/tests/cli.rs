@@ -1029,9 +1029,12 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
 }
 
 /// The pipeline cache kept between runs (crates/render/src/pipeline_cache.rs):
-/// the first run starts empty and writes the file, the next starts from it
-/// and draws the same bytes, and a damaged file is a cold start, not an
-/// error. (On by default on GPUs only; `SPREADLIGHT_PIPELINE_CACHE=on` here.)
+/// the first run starts empty and writes the file (a run leaves without
+/// tearing the GPU down, so this is the explicit save in `Evaluator::leave`),
+/// the next starts from it and draws the same bytes, and a damaged file is
+/// a cold start, not an error. Once the file holds data, a run turns the
+/// driver's own disk cache off unless the user set it (`prefer_kept_pipelines`).
+/// (On by default on GPUs only; `SPREADLIGHT_PIPELINE_CACHE=on` here.)
 #[test]
 fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -1041,7 +1044,7 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
         ("SPREADLIGHT_PIPELINE_CACHE", "on"),
         ("SPREADLIGHT_CACHE_DIR", cache_dir),
     ];
-    let run = |name: &str| {
+    let run_with = |name: &str, driver: &[(&str, &str)]| {
         let image = dir.path().join(name);
         let image = image.to_str().expect("utf-8 path");
         let args = [
@@ -1053,6 +1056,7 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
             "32x18",
             "--json",
         ];
+        let env: Vec<(&str, &str)> = env.iter().chain(driver).copied().collect();
         let out = spreadlight_env(&args, &env);
         let stdout = text(&out.stdout);
         assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
@@ -1065,11 +1069,18 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
         let bytes = std::fs::read(image).expect("image written");
         (cache, bytes)
     };
+    let run = |name: &str| run_with(name, &[]);
+    // What the driver's variable is when the user set none.
+    let user_chose = std::env::var_os("__GL_SHADER_DISK_CACHE").is_some();
     let (first, first_image) = run("first.png");
     if first.is_null() {
         panic!("the adapter offers no PIPELINE_CACHE (every Vulkan adapter should)");
     }
     assert_eq!(first["loaded_bytes"], 0, "{first}");
+    assert_eq!(
+        first["driver_disk_cache_off"], false,
+        "no file yet: {first}"
+    );
     let file = PathBuf::from(first["path"].as_str().expect("path"));
     assert!(file.starts_with(&cache), "{file:?} outside {cache:?}");
     let saved = std::fs::metadata(&file)
@@ -1080,6 +1091,13 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
     let (second, second_image) = run("second.png");
     assert_eq!(second["loaded_bytes"].as_u64(), Some(saved), "{second}");
     assert_eq!(first_image, second_image, "the cache changes no pixel");
+    assert_eq!(second["driver_disk_cache_off"], !user_chose, "{second}");
+    let (chosen, chosen_image) = run_with("chosen.png", &[("__GL_SHADER_DISK_CACHE", "1")]);
+    assert_eq!(
+        chosen["driver_disk_cache_off"], false,
+        "the user's setting stays: {chosen}"
+    );
+    assert_eq!(first_image, chosen_image);
 
     std::fs::write(&file, b"not a pipeline cache").expect("damage it");
     let (third, third_image) = run("third.png");

@@ -20,6 +20,65 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+/// Whether `dir` holds a file of this cache with data in it (for any adapter).
+fn holds_kept_pipelines(dir: &std::path::Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|entries| {
+        entries.flatten().any(|entry| {
+            entry.file_name().to_string_lossy().starts_with(FILE_PREFIX)
+                && entry.metadata().is_ok_and(|m| m.is_file() && m.len() > 0)
+        })
+    })
+}
+
+/// How `wgpu::util::pipeline_cache_key` begins every file's name.
+const FILE_PREFIX: &str = "wgpu_pipeline_cache_";
+
+static DRIVER_CACHE_OFF: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether [`prefer_kept_pipelines`] turned the driver's disk cache off.
+pub fn driver_disk_cache_turned_off() -> bool {
+    DRIVER_CACHE_OFF.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// NVIDIA's driver keeps a disk cache of its own (`__GL_SHADER_DISK_CACHE`,
+/// on by default). Where this cache already holds a run's pipelines, the
+/// driver's is redundant, and it is not free: on the H200 a warm start of
+/// post.ron created its 46 pipelines in 125-140 ms with it and 81-92 ms
+/// without (docs/benchmarks.md, "Session 25"), the same whether 3 or 15
+/// threads made them (its look-ups run one at a time).
+///
+/// So where a file of this cache with data is on disk, and neither the user
+/// set the driver's variable nor turned this cache off, the driver's is
+/// turned off for this process. A first run on a machine (no file yet)
+/// keeps the driver's, as does a run whose adapter is not NVIDIA's (the
+/// variable means nothing to other drivers). Returns whether it turned it off.
+///
+/// Call it first thing in `main`, before any thread starts: it sets an
+/// environment variable, which the driver reads when it loads.
+pub fn prefer_kept_pipelines() -> bool {
+    const DRIVER_CACHE: &str = "__GL_SHADER_DISK_CACHE";
+    if std::env::var_os(DRIVER_CACHE).is_some()
+        || matches!(
+            std::env::var("SPREADLIGHT_PIPELINE_CACHE").as_deref(),
+            Ok("off" | "0")
+        )
+    {
+        return false;
+    }
+    let kept = holds_kept_pipelines(&cache_dir());
+    if kept {
+        DRIVER_CACHE_OFF.store(true, std::sync::atomic::Ordering::Relaxed);
+        // SAFETY: the caller runs this before any thread of the process
+        // starts (its contract above), so nothing reads the environment
+        // while it changes.
+        #[allow(unsafe_code)]
+        unsafe {
+            std::env::set_var(DRIVER_CACHE, "0");
+        }
+    }
+    kept
+}
+
 /// A pipeline cache read from disk, saved back when dropped.
 pub struct DiskPipelineCache {
     cache: wgpu::PipelineCache,
@@ -129,5 +188,35 @@ impl Drop for DiskPipelineCache {
                 self.path.display()
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_a_cache_file_with_data_counts_as_kept_pipelines() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        assert!(!holds_kept_pipelines(&dir.path().join("missing")));
+        assert!(!holds_kept_pipelines(dir.path()), "empty folder");
+        std::fs::write(dir.path().join("other.bin"), b"data").expect("write");
+        assert!(!holds_kept_pipelines(dir.path()), "not a cache file");
+        let file = dir.path().join(format!("{FILE_PREFIX}vulkan_4318_9013"));
+        std::fs::write(&file, b"").expect("write");
+        assert!(!holds_kept_pipelines(dir.path()), "an empty cache file");
+        std::fs::write(&file, b"data").expect("write");
+        assert!(holds_kept_pipelines(dir.path()));
+    }
+
+    #[test]
+    fn the_file_prefix_is_wgpus() {
+        let info = wgpu::AdapterInfo {
+            vendor: 0x10de,
+            device: 0x2335,
+            ..wgpu::AdapterInfo::new(wgpu::DeviceType::DiscreteGpu, wgpu::Backend::Vulkan)
+        };
+        let key = wgpu::util::pipeline_cache_key(&info).expect("Vulkan has a key");
+        assert!(key.starts_with(FILE_PREFIX), "{key}");
     }
 }

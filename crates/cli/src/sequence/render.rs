@@ -362,6 +362,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     }
     cold_start(args, &evaluator, &progress, &mut summary);
     progress.finish(summary);
+    evaluator.leave();
     Ok(!failed.is_empty())
 }
 
@@ -539,5 +540,6 @@ fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<boo
     let mut summary = json!({"written": frames.len(), "skipped": 0, "failed": []});
     cold_start(args, &evaluator, &progress, &mut summary);
     progress.finish(summary);
+    evaluator.leave();
     Ok(false)
 }

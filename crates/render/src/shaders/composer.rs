@@ -6,6 +6,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage,
@@ -43,11 +44,14 @@ pub struct ShaderComposer {
 /// threads composing ahead, those creating pipelines ahead and the first
 /// frame often reach the same permutation at once).
 /// The same for generated shaders (`shaders/generated.rs`), with their labels.
+/// The modules are shared (`Arc`): a taker clones its own copy after the
+/// lock is let go, since a module's clone costs up to a millisecond and
+/// every thread making pipelines ahead takes one (session 25).
 #[derive(Default)]
 struct Embedded {
-    modules: HashMap<ShaderKey, naga::Module>,
+    modules: HashMap<ShaderKey, Arc<naga::Module>>,
     composing: std::collections::HashSet<ShaderKey>,
-    generated: HashMap<GeneratedKey, Generated>,
+    generated: HashMap<GeneratedKey, Arc<Generated>>,
     generating: std::collections::HashSet<GeneratedKey>,
 }
 
@@ -70,7 +74,8 @@ fn embedded() -> std::sync::MutexGuard<'static, Embedded> {
 /// Permutation `key` of the embedded sources, if a composer of this process
 /// (a renderer's, or the precompose threads') composed it already.
 pub(crate) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
-    embedded().modules.get(key).cloned()
+    let shared = embedded().modules.get(key).cloned();
+    shared.map(Arc::unwrap_or_clone)
 }
 
 /// [`embedded_module`], waiting first where a composer is composing it
@@ -83,7 +88,9 @@ pub(crate) fn embedded_module_or_wait(key: &ShaderKey) -> Option<naga::Module> {
             .wait(shared)
             .unwrap_or_else(|e| e.into_inner());
     }
-    shared.modules.get(key).cloned()
+    let module = shared.modules.get(key).cloned();
+    drop(shared);
+    module.map(Arc::unwrap_or_clone)
 }
 
 /// Generated shader `key` over the embedded sources, if a composer of this
@@ -96,7 +103,9 @@ pub(crate) fn embedded_generated_or_wait(key: &GeneratedKey) -> Option<Generated
             .wait(shared)
             .unwrap_or_else(|e| e.into_inner());
     }
-    shared.generated.get(key).cloned()
+    let generated = shared.generated.get(key).cloned();
+    drop(shared);
+    generated.map(Arc::unwrap_or_clone)
 }
 
 /// A generated shader this composer is generating ([`Composing`]'s twin).
@@ -114,8 +123,9 @@ impl Drop for Generating<'_> {
 fn generated_or_claim(key: &GeneratedKey) -> Result<Generated, Generating<'_>> {
     let mut shared = embedded();
     loop {
-        if let Some(made) = shared.generated.get(key) {
-            return Ok(made.clone());
+        if let Some(made) = shared.generated.get(key).cloned() {
+            drop(shared);
+            return Ok(Arc::unwrap_or_clone(made));
         }
         if shared.generating.insert(key.clone()) {
             return Err(Generating(key));
@@ -150,8 +160,9 @@ impl Drop for Composing<'_> {
 fn composed_or_claim(key: &ShaderKey) -> Result<naga::Module, Composing<'_>> {
     let mut shared = embedded();
     loop {
-        if let Some(module) = shared.modules.get(key) {
-            return Ok(module.clone());
+        if let Some(module) = shared.modules.get(key).cloned() {
+            drop(shared);
+            return Ok(Arc::unwrap_or_clone(module));
         }
         if shared.composing.insert(key.clone()) {
             return Err(Composing(key));
@@ -312,7 +323,8 @@ impl ShaderComposer {
         let module = self.make_module(key, true)?;
         if shared {
             // Before the claim is dropped (which wakes those waiting).
-            embedded().modules.insert(key.clone(), module.clone());
+            let stored = Arc::new(module.clone());
+            embedded().modules.insert(key.clone(), stored);
         }
         Ok(module)
     }
@@ -495,7 +507,8 @@ impl ShaderComposer {
         let made = key.compose_with(self)?;
         if shared {
             // Before the claim is dropped (which wakes those waiting).
-            embedded().generated.insert(key.clone(), made.clone());
+            let stored = Arc::new(made.clone());
+            embedded().generated.insert(key.clone(), stored);
         }
         Ok(made)
     }

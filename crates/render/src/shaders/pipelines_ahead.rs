@@ -45,6 +45,12 @@ pub fn enabled() -> bool {
     )
 }
 
+/// Whether each pipeline made ahead is printed on stderr with when it
+/// began and how long it took (`SPREADLIGHT_PIPELINES_AHEAD_LOG=1`).
+fn log_jobs() -> bool {
+    std::env::var_os("SPREADLIGHT_PIPELINES_AHEAD_LOG").is_some_and(|v| v != "0")
+}
+
 /// Whether a host waits for every listed pipeline before the first frame
 /// (`SPREADLIGHT_PIPELINES_AHEAD=wait`): counts that do not depend on how
 /// the threads were scheduled (tests), and how long making them all takes.
@@ -133,6 +139,14 @@ pub struct AheadStats {
     pub claimed: usize,
     /// From the start until the last thread ended (zero while one runs).
     pub wall: Duration,
+    /// The threads' time making pipelines, in all; of it, creating shader
+    /// modules (wgpu's validation of the composed module); and the longest
+    /// one pipeline took. Where `busy` is near `threads` x `wall`, the
+    /// threads were the limit; where `longest` is near `wall`, one pipeline
+    /// was (`SPREADLIGHT_PIPELINES_AHEAD_LOG=1` prints each on stderr).
+    pub busy: Duration,
+    pub modules: Duration,
+    pub longest: Duration,
 }
 
 impl AheadStats {
@@ -147,6 +161,9 @@ impl AheadStats {
         self.wait += other.wait;
         self.claimed += other.claimed;
         self.wall += other.wall;
+        self.busy += other.busy;
+        self.modules += other.modules;
+        self.longest = self.longest.max(other.longest);
     }
 }
 
@@ -317,13 +334,27 @@ impl Work {
                     _ => continue,
                 }
             }
-            let made = self.make(&mut composer, job);
+            let began = Instant::now();
+            let mut module_time = Duration::ZERO;
+            let made = self.make(&mut composer, job, &mut module_time);
+            let took = began.elapsed();
             let mut stats = locked(&shared.stats);
             match made {
                 Some(_) => stats.created += 1,
                 None => stats.failed += 1,
             }
+            stats.busy += took;
+            stats.modules += module_time;
+            stats.longest = stats.longest.max(took);
             drop(stats);
+            if log_jobs() {
+                eprintln!(
+                    "pipelines ahead: {id:?} began at {:.1} ms, took {:.1} ms (shader module {:.1} ms)",
+                    (began - self.started).as_secs_f64() * 1e3,
+                    took.as_secs_f64() * 1e3,
+                    module_time.as_secs_f64() * 1e3,
+                );
+            }
             let slot = made.map_or(Slot::Failed, Slot::Ready);
             locked(&shared.slots).insert(id.clone(), slot);
             shared.changed.notify_all();
@@ -346,7 +377,12 @@ impl Work {
     /// `render_pipeline`); None where the entry point is not a compute
     /// entry point of the module, the generator refuses the parts, a render
     /// pipeline came without its build, or the device refuses it.
-    fn make(&self, composer: &mut Option<ShaderComposer>, job: &Job) -> Option<Made> {
+    fn make(
+        &self,
+        composer: &mut Option<ShaderComposer>,
+        job: &Job,
+        module_time: &mut Duration,
+    ) -> Option<Made> {
         match &job.id {
             PipelineId::Entry(key, entry) => {
                 let module = self.module(composer, key)?;
@@ -355,7 +391,7 @@ impl Work {
                 }
                 let label = format!("{}{}", key.path(), key.describe_defs());
                 self.scoped(|| {
-                    let shader = self.shader(&label, module);
+                    let shader = self.shader(&label, module, module_time);
                     let label = format!("{label}::{entry}");
                     Made::Compute(crate::shaders::compute_pipeline_of(
                         &self.device,
@@ -377,7 +413,7 @@ impl Work {
                 }
                 let reflection = Arc::new(super::reflection::reflect(&module, entry).ok()?);
                 self.scoped(|| {
-                    let shader = self.shader(&label, module);
+                    let shader = self.shader(&label, module, module_time);
                     let pipeline = crate::shaders::compute_pipeline_of(
                         &self.device,
                         self.cache.as_ref(),
@@ -393,7 +429,7 @@ impl Work {
                 let module = self.module(composer, key)?;
                 let label = format!("{}{}", key.path(), key.describe_defs());
                 self.scoped(|| {
-                    let shader = self.shader(&label, module);
+                    let shader = self.shader(&label, module, module_time);
                     Made::Render(build(&self.device, &shader, self.cache.as_ref()))
                 })
             }
@@ -413,12 +449,22 @@ impl Work {
         }
     }
 
-    fn shader(&self, label: &str, module: naga::Module) -> wgpu::ShaderModule {
-        self.device
+    /// The module made (validated by wgpu), its time added to `spent`.
+    fn shader(
+        &self,
+        label: &str,
+        module: naga::Module,
+        spent: &mut Duration,
+    ) -> wgpu::ShaderModule {
+        let began = Instant::now();
+        let shader = self
+            .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
                 source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
-            })
+            });
+        *spent += began.elapsed();
+        shader
     }
 
     /// `make`'s result, None where the device raised an error making it:

@@ -32,6 +32,11 @@ fn a_cache_takes_the_pipelines_made_ahead_and_a_stale_entry_is_skipped() {
         "{done:?}"
     );
     assert!(done.wall > Duration::ZERO);
+    // The threads' time: the one made, its module within it (the skipped
+    // entry point is let go before any module is made).
+    assert!(done.longest > Duration::ZERO, "{done:?}");
+    assert!(done.busy >= done.longest && done.modules > Duration::ZERO);
+    assert!(done.modules <= done.busy, "{done:?}");
 
     let mut cache = ShaderCache::lazy().with_pipeline_cache(gpu.pipeline_cache().cloned());
     cache.set_pipelines_ahead(ahead.clone());
