@@ -14,6 +14,7 @@ use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
+use spreadlight_render::context::GpuContext;
 use spreadlight_render::error::RenderError;
 use spreadlight_render::pipelines_ahead::{self, Job, PipelineId, PipelinesAhead};
 use spreadlight_render::precompose::{self, Precomposed};
@@ -64,6 +65,13 @@ struct Ahead {
     pipelines: Vec<PipelineId>,
 }
 
+/// The compute pipelines the last run's list names (none without a list).
+fn listed_pipelines(ahead: &Option<Ahead>) -> Vec<PipelineId> {
+    ahead
+        .as_ref()
+        .map_or_else(Vec::new, |ahead| ahead.pipelines.clone())
+}
+
 /// Start composing, on threads of their own, what the patch at `path`
 /// composed last time; None without a list (a warning for a damaged one).
 fn start_precompose(path: &Path) -> Option<Ahead> {
@@ -88,31 +96,66 @@ fn start_precompose(path: &Path) -> Option<Ahead> {
 /// session that needs the GPU whatever the patch holds (`render`, `bench`,
 /// `view`): the driver's adapter and device (about 0.2 s on the H200 host)
 /// overlap parsing the patch, the registry and the network.
+///
+/// The same thread starts creating the last run's pipelines the moment
+/// the device is open, before the renderer's own setup (about 18 ms on the
+/// H200 host): a warm start's first frame waits for those pipelines, which
+/// the driver makes one at a time (docs/benchmarks.md, "Session 25").
 pub struct OpeningGpu {
-    thread: std::thread::JoinHandle<(Result<Renderer, RenderError>, f64)>,
+    thread: std::thread::JoinHandle<OpenedGpu>,
 }
 
+/// What the thread opening the GPU hands back: the renderer (or why there
+/// is none), the pipelines it started making, the seconds it took.
+type OpenedGpu = (Result<Renderer, RenderError>, Option<PipelinesAhead>, f64);
+
 impl OpeningGpu {
-    /// Start opening it; None where no thread could be made (the session
-    /// opens it itself, as before).
-    pub fn start() -> Option<OpeningGpu> {
+    /// Start opening it, and then making `pipelines` (the last run's list;
+    /// empty: none); None where no thread could be made (the session opens
+    /// it itself, as before).
+    pub fn start(pipelines: Vec<PipelineId>) -> Option<OpeningGpu> {
         std::thread::Builder::new()
             .name("open gpu".to_owned())
-            .spawn(|| {
+            .spawn(move || {
                 let started = std::time::Instant::now();
-                let renderer = Renderer::headless();
-                (renderer, started.elapsed().as_secs_f64())
+                let (renderer, making) = match GpuContext::headless() {
+                    Ok(gpu) => {
+                        let making = start_pipelines_ahead(&gpu, pipelines);
+                        let renderer = Renderer::new(gpu);
+                        if let (Ok(renderer), Some(making)) = (&renderer, &making) {
+                            renderer.shaders().set_pipelines_ahead(making.clone());
+                        }
+                        (renderer, making)
+                    }
+                    Err(e) => (Err(e), None),
+                };
+                (renderer, making, started.elapsed().as_secs_f64())
             })
             .ok()
             .map(|thread| OpeningGpu { thread })
     }
 
-    /// The renderer (or why there is none), and the seconds opening it took on its thread.
-    fn finish(self) -> anyhow::Result<(Result<Renderer, RenderError>, f64)> {
+    /// The renderer (or why there is none), the pipelines being made ahead,
+    /// and the seconds opening it took on its thread.
+    fn finish(self) -> anyhow::Result<OpenedGpu> {
         self.thread
             .join()
             .map_err(|_| anyhow::anyhow!("the thread opening the GPU panicked"))
     }
+}
+
+/// Start creating `pipelines` (the last run's list) on threads of their own
+/// on `gpu`'s device; None where the list is empty or that is turned off.
+fn start_pipelines_ahead(gpu: &GpuContext, pipelines: Vec<PipelineId>) -> Option<PipelinesAhead> {
+    if pipelines.is_empty() || !pipelines_ahead::enabled() {
+        return None;
+    }
+    Some(PipelinesAhead::start(
+        gpu.device.clone(),
+        gpu.pipeline_cache().cloned(),
+        pipelines.into_iter().map(Job::from).collect(),
+        precompose::threads(),
+    ))
 }
 
 /// A load problem as a headless command reports it: its line, and its
@@ -195,10 +238,22 @@ impl Session {
         size: Option<(u32, u32)>,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
+        // First, so that the threads compose while the registry and the GPU are made.
+        let precomposing = start_precompose(path);
         // Opened beside the patch's parsing when it is needed for sure.
-        let opening = force_gpu.then(OpeningGpu::start).flatten();
+        let opening = force_gpu
+            .then(|| OpeningGpu::start(listed_pipelines(&precomposing)))
+            .flatten();
         let patch = format::load(path)?;
-        Self::build_opening(&patch, path, size, true, allow_unknown, opening, force_gpu)
+        Self::build_opening(
+            &patch,
+            path,
+            size,
+            true,
+            allow_unknown,
+            (opening, precomposing),
+            force_gpu,
+        )
     }
 
     pub fn from_patch(
@@ -219,14 +274,17 @@ impl Session {
         capture: bool,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
-        let opening = force_gpu.then(OpeningGpu::start).flatten();
+        let precomposing = start_precompose(path);
+        let opening = force_gpu
+            .then(|| OpeningGpu::start(listed_pipelines(&precomposing)))
+            .flatten();
         Self::build_opening(
             patch,
             path,
             size,
             capture,
             allow_unknown,
-            opening,
+            (opening, precomposing),
             force_gpu,
         )
     }
@@ -238,11 +296,9 @@ impl Session {
         size: Option<(u32, u32)>,
         capture: bool,
         allow_unknown: bool,
-        opening: Option<OpeningGpu>,
+        (opening, precomposing): (Option<OpeningGpu>, Option<Ahead>),
         force_gpu: bool,
     ) -> anyhow::Result<Self> {
-        // First, so that the threads compose while the registry and the GPU are made.
-        let precomposing = start_precompose(path);
         let started = std::time::Instant::now();
         let mut opened = Opened::default();
         let mut registry = spreadlight_nodes::registry();
@@ -266,30 +322,23 @@ impl Session {
         let mut pipelines_making = None;
         let mut gpu_on_thread = None;
         let renderer = if gpu {
-            let (renderer, on_thread) = match opening {
+            let (renderer, making, on_thread) = match opening {
                 Some(opening) => {
-                    let (renderer, seconds) = opening.finish()?;
-                    (renderer, Some(seconds))
+                    let (renderer, making, seconds) = opening.finish()?;
+                    (renderer, making, Some(seconds))
                 }
-                None => (Renderer::headless(), None),
+                None => (Renderer::headless(), None, None),
             };
             let renderer = Arc::new(renderer.context("cannot open the GPU this patch needs")?);
             gpu_on_thread = on_thread;
             // The device is open: the last run's pipelines are created on
-            // threads while the patch loads and its first frame evaluates.
-            if let Some(ahead) = precomposing.as_ref().filter(|_| pipelines_ahead::enabled())
-                && !ahead.pipelines.is_empty()
-            {
-                let gpu = &renderer.gpu;
-                let making = PipelinesAhead::start(
-                    gpu.device.clone(),
-                    gpu.pipeline_cache().cloned(),
-                    ahead.pipelines.iter().cloned().map(Job::from).collect(),
-                    precompose::threads(),
-                );
+            // threads while the patch loads and its first frame evaluates
+            // (started by the thread that opened it, else here).
+            pipelines_making = making.or_else(|| {
+                let making = start_pipelines_ahead(&renderer.gpu, listed_pipelines(&precomposing))?;
                 renderer.shaders().set_pipelines_ahead(making.clone());
-                pipelines_making = Some(making);
-            }
+                Some(making)
+            });
             // A few command encoders a frame, not one a pass: 1.2 ms less CPU
             // on post.ron on the H100 (docs/benchmarks.md); a failing frame falls back to
             // recording pass by pass, which names the pass.
