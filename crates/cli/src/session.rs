@@ -65,6 +65,19 @@ struct Ahead {
     pipelines: Vec<PipelineId>,
 }
 
+/// Start opening the GPU on a thread where `force_gpu`, then composing
+/// the last run's list of the patch at `path` on threads of their own (so
+/// that the threads compose while the registry and the GPU are made); the
+/// GPU's thread gets the list's pipelines once it is read.
+fn start_opening(path: &Path, force_gpu: bool) -> (Option<OpeningGpu>, Option<Ahead>) {
+    let (send, listed) = std::sync::mpsc::channel();
+    let opening = force_gpu.then(|| OpeningGpu::start(listed)).flatten();
+    let precomposing = start_precompose(path);
+    // The thread may have ended already (no adapter): nothing is lost.
+    let _ = send.send(listed_pipelines(&precomposing));
+    (opening, precomposing)
+}
+
 /// The compute pipelines the last run's list names (none without a list).
 fn listed_pipelines(ahead: &Option<Ahead>) -> Vec<PipelineId> {
     ahead
@@ -110,16 +123,19 @@ pub struct OpeningGpu {
 type OpenedGpu = (Result<Renderer, RenderError>, Option<PipelinesAhead>, f64);
 
 impl OpeningGpu {
-    /// Start opening it, and then making `pipelines` (the last run's list;
-    /// empty: none); None where no thread could be made (the session opens
-    /// it itself, as before).
-    pub fn start(pipelines: Vec<PipelineId>) -> Option<OpeningGpu> {
+    /// Start opening it, and then making the pipelines `listed` brings (the
+    /// last run's list, sent once read; none if the sender is dropped
+    /// unsent); None where no thread could be made (the session opens it
+    /// itself, as before). The list comes by channel so that the driver
+    /// starts before the list is read and the threads composing it start.
+    pub fn start(listed: std::sync::mpsc::Receiver<Vec<PipelineId>>) -> Option<OpeningGpu> {
         std::thread::Builder::new()
             .name("open gpu".to_owned())
             .spawn(move || {
                 let started = std::time::Instant::now();
                 let (renderer, making) = match GpuContext::headless() {
                     Ok(gpu) => {
+                        let pipelines = listed.recv().unwrap_or_default();
                         let making = start_pipelines_ahead(&gpu, pipelines);
                         let renderer = Renderer::new(gpu);
                         if let (Ok(renderer), Some(making)) = (&renderer, &making) {
@@ -238,12 +254,8 @@ impl Session {
         size: Option<(u32, u32)>,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
-        // First, so that the threads compose while the registry and the GPU are made.
-        let precomposing = start_precompose(path);
         // Opened beside the patch's parsing when it is needed for sure.
-        let opening = force_gpu
-            .then(|| OpeningGpu::start(listed_pipelines(&precomposing)))
-            .flatten();
+        let (opening, precomposing) = start_opening(path, force_gpu);
         let patch = format::load(path)?;
         Self::build_opening(
             &patch,
@@ -274,10 +286,7 @@ impl Session {
         capture: bool,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
-        let precomposing = start_precompose(path);
-        let opening = force_gpu
-            .then(|| OpeningGpu::start(listed_pipelines(&precomposing)))
-            .flatten();
+        let (opening, precomposing) = start_opening(path, force_gpu);
         Self::build_opening(
             patch,
             path,
