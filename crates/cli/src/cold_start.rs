@@ -47,9 +47,9 @@ pub struct ColdStart {
     /// Those it made itself, by label (permutation and entry point, or a
     /// render pipeline's variant): what no list or announcement covered.
     pub made_at_frame: Vec<String>,
-    /// The pipeline cache file and the bytes read from it (None: the device
-    /// keeps none, pipeline_cache.rs).
-    pub pipeline_cache: Option<(std::path::PathBuf, usize)>,
+    /// The pipeline cache file, the bytes read from it and the driver's
+    /// bytes once made from them (None: the device keeps none, pipeline_cache.rs).
+    pub pipeline_cache: Option<(std::path::PathBuf, usize, usize)>,
     /// What creating the last run's pipelines ahead did (None: no list, or
     /// `SPREADLIGHT_PIPELINES_AHEAD=off`).
     pub ahead: Option<AheadStats>,
@@ -80,7 +80,7 @@ impl ColdStart {
             .renderer
             .as_ref()
             .and_then(|r| r.gpu.disk_pipeline_cache())
-            .map(|c| (c.path().to_path_buf(), c.loaded_bytes()));
+            .map(|c| (c.path().to_path_buf(), c.loaded_bytes(), c.accepted_bytes()));
         ColdStart {
             pipeline_cache,
             total: since_start(),
@@ -166,9 +166,10 @@ impl ColdStart {
             "made_at_frame": self.made_at_frame,
             "pipelines_ahead": self.ahead.map(counts),
             "pipelines_gathered": self.gathered.map(counts),
-            "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
+            "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes, accepted)| json!({
                 "path": path.display().to_string(),
                 "loaded_bytes": bytes,
+                "accepted_bytes": accepted,
                 "driver_disk_cache_off": spreadlight_render::pipeline_cache::driver_disk_cache_turned_off(),
             })),
         })

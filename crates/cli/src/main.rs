@@ -69,8 +69,12 @@ enum Command {
 
 fn main() -> ExitCode {
     cold_start::mark_process_start();
-    // Before any thread starts: it may set the driver's environment.
-    spreadlight_render::pipeline_cache::prefer_kept_pipelines();
+    // SAFETY: no other thread runs yet (nothing before this line starts
+    // one); it may set the driver's environment.
+    #[allow(unsafe_code)]
+    unsafe {
+        spreadlight_render::pipeline_cache::prefer_kept_pipelines();
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         None => edit::run(&edit::Args::default()),

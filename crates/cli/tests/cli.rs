@@ -1032,7 +1032,7 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
 /// the first run starts empty and writes the file (a run leaves without
 /// tearing the GPU down, so this is the explicit save in `Evaluator::leave`),
 /// the next starts from it and draws the same bytes, and a damaged file is
-/// a cold start, not an error. Once the file holds data, a run turns the
+/// a cold start, not an error, and is written anew. Once the file holds data, a run turns the
 /// driver's own disk cache off unless the user set it (`prefer_kept_pipelines`).
 /// (On by default on GPUs only; `SPREADLIGHT_PIPELINE_CACHE=on` here.)
 #[test]
@@ -1099,10 +1099,26 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
     );
     assert_eq!(first_image, chosen_image);
 
-    std::fs::write(&file, b"not a pipeline cache").expect("damage it");
-    let (third, third_image) = run("third.png");
+    // Damaged, and larger than the driver's data (as a stale file after a
+    // driver update may be): the driver refuses it, and the run still saves
+    // what it compiled, also when it drops its GPU (the save on drop).
+    let damaged = vec![7u8; 4 << 20];
+    std::fs::write(&file, &damaged).expect("damage it");
+    let (third, third_image) = run_with("third.png", &[("SPREADLIGHT_TEARDOWN", "full")]);
     assert!(!third.is_null(), "{third}");
+    assert_eq!(third["loaded_bytes"].as_u64(), Some(damaged.len() as u64));
+    let accepted = third["accepted_bytes"].as_u64().expect("accepted bytes");
+    assert!(
+        accepted < damaged.len() as u64,
+        "the driver refused it: {third}"
+    );
     assert_eq!(first_image, third_image);
+    let rewritten = std::fs::read(&file).expect("still there");
+    assert!(
+        !rewritten.is_empty() && rewritten != damaged,
+        "written anew: {} bytes",
+        rewritten.len()
+    );
 }
 
 /// Composing and creating pipelines ahead (precompose.rs and

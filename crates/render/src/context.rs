@@ -181,6 +181,12 @@ impl GpuContext {
         self.uncaptured.take()
     }
 
+    /// Print the device errors no host took (what dropping the last clone
+    /// of the context does), for a host that ends without dropping it.
+    pub fn print_unreported_errors(&self) {
+        self.uncaptured.print_unreported();
+    }
+
     /// Run `work` inside a validation and an out-of-memory error scope: an
     /// error it causes comes back as `Err` with wgpu's message, for the
     /// caller to say what it was doing, instead of reaching the device's

@@ -54,11 +54,19 @@ impl UncapturedErrors {
     }
 }
 
-impl Drop for UncapturedErrors {
-    fn drop(&mut self) {
+impl UncapturedErrors {
+    /// Print on stderr what no host took: the last word on errors a
+    /// process would otherwise lose (dropped, or left without dropping).
+    pub fn print_unreported(&self) {
         for error in self.take() {
             eprintln!("GPU error no one reported: {error}");
         }
+    }
+}
+
+impl Drop for UncapturedErrors {
+    fn drop(&mut self) {
+        self.print_unreported();
     }
 }
 

@@ -231,29 +231,26 @@ impl Evaluator {
     /// End the process's use of the GPU without tearing it down, for a
     /// process that ends next (`render` after its last file is written).
     /// What dropping would have done that outlives the process is done
-    /// here: the pipeline cache saved, device errors no one reported
-    /// printed. The rest (the device, every texture, buffer and pipeline)
-    /// the driver and the kernel reclaim when the process exits. Dropping
-    /// them one by one took 50-60 ms on the H200 after post.ron's frame was
-    /// written (docs/benchmarks.md, "Session 25"). `SPREADLIGHT_TEARDOWN=full`
-    /// drops them as before.
+    /// here: the submissions drained, the threads making pipelines ahead
+    /// waited for (their pipelines belong in the cache), the pipeline cache
+    /// saved, device errors no one reported printed. The rest (the device,
+    /// every texture, buffer and pipeline) the driver and the kernel reclaim
+    /// when the process exits. Dropping them one by one took 50-60 ms on
+    /// the H200 after post.ron's frame was written (docs/benchmarks.md,
+    /// "Session 25"). `SPREADLIGHT_TEARDOWN=full` drops them as before.
     pub fn leave(self) {
         if std::env::var("SPREADLIGHT_TEARDOWN").as_deref() == Ok("full") {
             return;
         }
         if let Some(renderer) = &self.session.renderer {
-            let gpu = &renderer.gpu;
-            for error in gpu.take_uncaptured_errors() {
-                eprintln!("GPU error no one reported: {error}");
+            if let Err(e) = renderer.wait_idle() {
+                eprintln!("warning: the GPU's last work did not finish: {e}");
             }
-            if let Some(cache) = gpu.disk_pipeline_cache()
-                && let Err(e) = cache.save()
-            {
-                // Nothing else is lost: the next run compiles again.
-                eprintln!(
-                    "warning: could not save the pipeline cache to {}: {e}",
-                    cache.path().display()
-                );
+            renderer.shaders().wait_ahead();
+            let gpu = &renderer.gpu;
+            gpu.print_unreported_errors();
+            if let Some(cache) = gpu.disk_pipeline_cache() {
+                cache.save_or_warn();
             }
         }
         std::mem::forget(self);

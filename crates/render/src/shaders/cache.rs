@@ -374,6 +374,15 @@ impl ShaderCache {
         self.ahead = Some(ahead);
     }
 
+    /// Wait until every thread making pipelines ahead (from the list, or
+    /// announced by frames) ended: what they made is then in the driver's
+    /// pipeline cache, for a host that saves it and ends.
+    pub fn wait_ahead(&self) {
+        for ahead in self.ahead.iter().chain(&self.frame_ahead) {
+            ahead.wait();
+        }
+    }
+
     /// What creating pipelines ahead did, if this cache was given any.
     pub fn pipelines_ahead(&self) -> Option<AheadStats> {
         self.ahead.as_ref().map(PipelinesAhead::stats)

@@ -45,8 +45,8 @@ pub struct ShaderComposer {
 /// frame often reach the same permutation at once).
 /// The same for generated shaders (`shaders/generated.rs`), with their labels.
 /// The modules are shared (`Arc`): a taker clones its own copy after the
-/// lock is let go, since a module's clone costs up to a millisecond and
-/// every thread making pipelines ahead takes one (session 25).
+/// lock is let go (a module's clone took 0.05-0.25 ms on the H200 host, and
+/// every thread making pipelines ahead takes one; session 25).
 #[derive(Default)]
 struct Embedded {
     modules: HashMap<ShaderKey, Arc<naga::Module>>,

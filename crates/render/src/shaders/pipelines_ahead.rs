@@ -139,11 +139,13 @@ pub struct AheadStats {
     pub claimed: usize,
     /// From the start until the last thread ended (zero while one runs).
     pub wall: Duration,
-    /// The threads' time making pipelines, in all; of it, creating shader
-    /// modules (wgpu's validation of the composed module); and the longest
-    /// one pipeline took. Where `busy` is near `threads` x `wall`, the
-    /// threads were the limit; where `longest` is near `wall`, one pipeline
-    /// was (`SPREADLIGHT_PIPELINES_AHEAD_LOG=1` prints each on stderr).
+    /// The threads' time on their pipelines, in all (composing a module
+    /// where none was composed ahead, or waiting for another thread
+    /// composing it, included); of it, creating shader modules (wgpu's
+    /// validation of the composed module); and the longest one pipeline
+    /// took. A `busy` near `threads` x `wall` while one pipeline takes far
+    /// longer than when made alone means the driver made them one at a
+    /// time (`SPREADLIGHT_PIPELINES_AHEAD_LOG=1` prints each on stderr).
     pub busy: Duration,
     pub modules: Duration,
     pub longest: Duration,
