@@ -52,9 +52,7 @@ impl UncapturedErrors {
         }
         errors
     }
-}
 
-impl UncapturedErrors {
     /// Print on stderr what no host took: the last word on errors a
     /// process would otherwise lose (dropped, or left without dropping).
     pub fn print_unreported(&self) {
