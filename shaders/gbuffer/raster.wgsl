@@ -34,6 +34,20 @@ struct Batch {
     first_global: u32,
 }
 
+// Draws rasterized in one dispatch (compute_raster.rs: those that share a
+// pipeline), a thread per triangle, one draw's threads after another's: a
+// dispatch a draw made a thousand small glTF meshes a thousand dispatches,
+// each waiting for the one before it.
+const RUN_BATCHES: u32 = 1024u;
+struct Run {
+    batches: array<Batch, RUN_BATCHES>,
+    // The run's first thread for each batch, ascending, four to a vector (a
+    // uniform array's elements are 16 bytes apart).
+    first_threads: array<vec4<u32>, 256>,
+    // x: batches in the run.
+    count: vec4<u32>,
+}
+
 // A tile of a big triangle: instance, triangle, global id, tile x | tile y << 16
 // (LAYERED: tile x | tile y << 8 | layer << 16; a shadow map's side, at
 // most 8192 texels, is at most 256 tiles).
@@ -77,7 +91,7 @@ fn enter_layer(index: u32) {
 @group(0) @binding(5) var<storage, read_write> tiles: array<TileEntry>;
 // x: tile entries written, y: the list's capacity, z: giant triangles queued, w unused.
 @group(0) @binding(6) var<storage, read_write> tile_count: array<atomic<u32>, 4>;
-@group(0) @binding(7) var<uniform> batch: Batch;
+@group(0) @binding(7) var<uniform> run: Run;
 
 const TILE: u32 = 32u;
 const SMALL_AREA: f32 = 256.0;
@@ -251,18 +265,42 @@ fn pixel_bounds(s: Setup) -> array<vec2<u32>, 2> {
     return array<vec2<u32>, 2>(vec2<u32>(lo), vec2<u32>(hi));
 }
 
+fn first_thread(batch: u32) -> u32 {
+    return run.first_threads[batch / 4u][batch % 4u];
+}
+
+// The run's batch holding `thread`: the last whose first thread is not past
+// it (the first's is 0). A workgroup's 64 threads lie in one batch or a few,
+// so its lanes read the same entries.
+fn batch_of(thread: u32) -> u32 {
+    var lo = 0u;
+    var hi = run.count.x;
+    while (hi - lo > 1u) {
+        let mid = (lo + hi) / 2u;
+        if (first_thread(mid) <= thread) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
 @compute @workgroup_size(64)
 fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
 #ifdef LAYERED
     enter_layer(gid.z);
 #endif
     let thread = gid.x + gid.y * groups.x * 64u;
-    if (thread >= batch.triangles * batch.instance_count) {
+    let index = batch_of(thread);
+    let batch = run.batches[index];
+    let local = thread - first_thread(index);
+    if (local >= batch.triangles * batch.instance_count) {
         return;
     }
-    let instance = batch.first_instance + thread / batch.triangles;
-    let triangle = thread % batch.triangles;
-    let id = batch.first_global + thread;
+    let instance = batch.first_instance + local / batch.triangles;
+    let triangle = local % batch.triangles;
+    let id = batch.first_global + local;
     let s = setup(instance, triangle);
     if (s.count == 0u) {
         return;

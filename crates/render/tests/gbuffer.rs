@@ -512,6 +512,56 @@ fn both_rasterizers_see_the_same_scene() {
     both_rasterizers_agree(&renderer, &stack, camera, (320, 288));
 }
 
+#[test]
+fn more_meshes_than_one_dispatch_holds_are_rasterized_where_the_hardware_draws_them() {
+    // 1,100 meshes, each its own draw: more than one compute dispatch holds
+    // (RUN_BATCHES, 1,024), so the compute raster runs its draws in two
+    // dispatches, each thread finding its draw among a thousand. Meshes of
+    // two sizes in turn, so a workgroup's threads span draws of different
+    // triangle counts.
+    let renderer = test_renderer();
+    let meshes = [(6, 3), (8, 4)].map(|(sectors, stacks)| {
+        renderer
+            .meshes
+            .upload(
+                &renderer.gpu,
+                &sphere(SphereParams {
+                    radius: 0.45,
+                    sectors,
+                    stacks,
+                }),
+            )
+            .expect("upload")
+    });
+    let batches: Vec<DrawBatch> = (0..1_100)
+        .map(|i| {
+            let t = Mat4::from_translation(Vec3::new(
+                (i % 44) as f32 - 22.0,
+                0.0,
+                (i / 44) as f32 * -1.0 + 3.0,
+            ));
+            DrawBatch {
+                mesh: meshes[i % 2].clone(),
+                instances: vec![instance(t, t)],
+            }
+        })
+        .collect();
+    let layer = Arc::new(Layer::plain(batches));
+    let camera = camera_at(Vec3::new(0.0, 12.0, 14.0));
+    let g = GBuffer::with_raster(
+        &renderer,
+        None,
+        vec![layer.clone()],
+        camera,
+        None,
+        SizeRule::Relative(1.0),
+        RasterChoice::Compute,
+    );
+    let (report, _) = render(&renderer, &g, &[&g.targets.depth]);
+    assert_eq!(report.draws, 1_100, "every mesh is counted as a draw");
+    both_rasterizers_agree(&renderer, &layer, camera, (160, 96));
+}
+
 fn both_rasterizers_agree(
     renderer: &Renderer,
     layer: &Arc<Layer>,

@@ -53,15 +53,15 @@ impl SetKind {
     fn raster_labels(self) -> RasterLabels {
         match self {
             SetKind::All => RasterLabels {
-                batch: "shadow raster batch",
+                run: "shadow raster run",
                 first_triangle: "shadow first triangle",
             },
             SetKind::Still => RasterLabels {
-                batch: "shadow raster batch (still)",
+                run: "shadow raster run (still)",
                 first_triangle: "shadow first triangle (still)",
             },
             SetKind::Moving => RasterLabels {
-                batch: "shadow raster batch (moving)",
+                run: "shadow raster run (moving)",
                 first_triangle: "shadow first triangle (moving)",
             },
         }
