@@ -32,6 +32,9 @@ struct Batch {
     triangles: u32,
     instance_count: u32,
     first_global: u32,
+    // The mesh's bounding sphere (centre, radius) before an instance's
+    // transform; radius < 0: none (particles).
+    sphere: vec4<f32>,
 }
 
 // Draws rasterized in one dispatch (compute_raster.rs: those that share a
@@ -265,6 +268,39 @@ fn pixel_bounds(s: Setup) -> array<vec2<u32>, 2> {
     return array<vec2<u32>, 2>(vec2<u32>(lo), vec2<u32>(hi));
 }
 
+// Whether an instance of a mesh bounded by `sphere` may cover a pixel of the
+// view: false only where the sphere, moved by the instance's transform, lies
+// wholly outside one of the view's four side planes. Such an instance's
+// triangles cover no pixel (their parts in front of the eye lie outside that
+// plane, and what lies behind it is clipped), so leaving it before its
+// triangles are fetched changes no word; a thin strip of a scrolled shadow
+// cascade, or a camera that sees part of a crowd, rejects most instances
+// here, a warp of one instance at a time. Kept: particles (no sphere), a
+// transform that is not affine, and anything not finite (the triangle's own
+// setup decides).
+fn may_cover(sphere: vec4<f32>, instance: u32) -> bool {
+    if (!(sphere.w >= 0.0)) {
+        return true;
+    }
+    let model = instances[instance].model;
+    if (any(vec4<f32>(model[0].w, model[1].w, model[2].w, model[3].w) != vec4<f32>(0.0, 0.0, 0.0, 1.0))) {
+        return true;
+    }
+    let stretch = max(max(dot(model[0].xyz, model[0].xyz), dot(model[1].xyz, model[1].xyz)), dot(model[2].xyz, model[2].xyz));
+    // A thousandth wider, against rounding in the planes.
+    let radius = sphere.w * sqrt(stretch) * 1.001 + 1e-6;
+    let m = camera.view_projection;
+    let clip = m * (model * vec4<f32>(sphere.xyz, 1.0));
+    // The side planes w + x, w - x, w + y, w - y: their values at the centre,
+    // and their normals' lengths, which scale a world distance to them.
+    let x = vec3<f32>(m[0].x, m[1].x, m[2].x);
+    let y = vec3<f32>(m[0].y, m[1].y, m[2].y);
+    let w = vec3<f32>(m[0].w, m[1].w, m[2].w);
+    let value = vec4<f32>(clip.w + clip.x, clip.w - clip.x, clip.w + clip.y, clip.w - clip.y);
+    let reach = radius * vec4<f32>(length(w + x), length(w - x), length(w + y), length(w - y));
+    return !any(value < -reach);
+}
+
 fn first_thread(batch: u32) -> u32 {
     return run.first_threads[batch / 4u][batch % 4u];
 }
@@ -299,6 +335,9 @@ fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         return;
     }
     let instance = batch.first_instance + local / batch.triangles;
+    if (!may_cover(batch.sphere, instance)) {
+        return;
+    }
     let triangle = local % batch.triangles;
     let id = batch.first_global + local;
     let s = setup(instance, triangle);

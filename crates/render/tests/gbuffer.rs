@@ -562,6 +562,81 @@ fn more_meshes_than_one_dispatch_holds_are_rasterized_where_the_hardware_draws_t
     both_rasterizers_agree(&renderer, &layer, camera, (160, 96));
 }
 
+#[test]
+fn instances_reaching_into_the_view_from_outside_it_are_drawn() {
+    // The compute raster leaves out an instance whose bounding sphere lies
+    // wholly outside a side of the view (raster.wgsl, may_cover). Spheres
+    // whose centres lie outside the view but whose bodies reach into it (a
+    // stretch of 12 along x, of 0.1 along y, a shear) or lie just beyond
+    // each side must come out as the raster hardware draws them.
+    let renderer = test_renderer();
+    let camera = camera_at(Vec3::new(0.0, 0.0, 6.0));
+    // At z = 0 the 60-degree view reaches 6 tan(30) = 3.46 either side.
+    let placed = |t: Mat4| instance(t, t);
+    let mut instances = vec![
+        placed(
+            Mat4::from_translation(Vec3::new(-7.5, 0.0, 0.0))
+                * Mat4::from_scale(Vec3::new(6.0, 1.5, 0.5)),
+        ),
+        placed(
+            Mat4::from_translation(Vec3::new(0.0, 4.4, 0.0))
+                * Mat4::from_scale(Vec3::new(2.5, 1.5, 0.5)),
+        ),
+        placed(Mat4::from_cols(
+            Vec4::new(0.5, 0.0, 0.0, 0.0),
+            Vec4::new(3.5, 1.5, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 0.5, 0.0),
+            Vec4::new(6.0, -1.0, 0.0, 1.0),
+        )),
+    ];
+    for (x, y) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+        // Just outside each side (the sphere's radius is 1), then just in.
+        for reach in [3.46 + 1.02, 3.46 + 0.95] {
+            let t = Mat4::from_translation(Vec3::new(x * reach, y * reach, 0.0));
+            instances.push(placed(t));
+        }
+    }
+    let layer = sphere_layer_of(&renderer, (16, 8), instances, LayerFeatures::default());
+    // Which pixels each rasterizer covers (depth > 0: reversed Z, the
+    // background 0). They may disagree on silhouette pixels, a few per
+    // object; an object left out would be hundreds.
+    let size = (128, 128);
+    let covered: Vec<Vec<bool>> = [RasterChoice::Hardware, RasterChoice::Compute]
+        .into_iter()
+        .map(|choice| {
+            let g = GBuffer::with_raster(
+                &renderer,
+                None,
+                vec![layer.clone()],
+                camera,
+                None,
+                SizeRule::Relative(1.0),
+                choice,
+            );
+            let (report, out) = spreadlight_render::readback::render_and_read(
+                &renderer,
+                g.as_ref(),
+                size,
+                &[&g.targets.depth],
+            )
+            .expect("frame executes");
+            assert!(report.errors.is_empty(), "{:?}", report.errors);
+            out[0].pixels.iter().map(|p| p[0] > 0.0).collect()
+        })
+        .collect();
+    let drawn = covered[0].iter().filter(|&&c| c).count();
+    let differing = covered[0]
+        .iter()
+        .zip(&covered[1])
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(drawn > 1_500, "the scene covers {drawn} pixels");
+    assert!(
+        differing < 60,
+        "{differing} of {drawn} covered pixels differ between the rasterizers"
+    );
+}
+
 fn both_rasterizers_agree(
     renderer: &Renderer,
     layer: &Arc<Layer>,

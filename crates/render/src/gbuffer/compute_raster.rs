@@ -47,11 +47,31 @@ struct GpuBatch {
     triangles: u32,
     instance_count: u32,
     first_global: u32,
+    /// The mesh's bounding sphere (centre, radius) before its instances'
+    /// transforms; a negative radius: none (particles), no instance culled.
+    sphere: [f32; 4],
+}
+
+impl GpuBatch {
+    /// `bounds`' sphere, or none where they are missing or not finite.
+    fn sphere(bounds: Option<crate::mesh::Aabb>) -> [f32; 4] {
+        match bounds {
+            Some(b) if b.min.is_finite() && b.max.is_finite() => {
+                let (c, r) = (b.center(), (b.size() * 0.5).length());
+                if r.is_finite() {
+                    [c.x, c.y, c.z, r]
+                } else {
+                    [0.0, 0.0, 0.0, -1.0]
+                }
+            }
+            _ => [0.0, 0.0, 0.0, -1.0],
+        }
+    }
 }
 
 /// The most draws one dispatch rasterizes (`RUN_BATCHES` in raster.wgsl): a
-/// run's uniform is 20 KB whatever it holds, and a scene of more draws takes
-/// one dispatch per this many.
+/// run's uniform is 36 KB whatever it holds (a uniform binding may be 64 KB
+/// on any adapter), and a scene of more draws takes one dispatch per this many.
 const RUN_BATCHES: usize = 1024;
 
 /// Matches `Run` in raster.wgsl: draws rasterized in one dispatch, a thread
@@ -297,6 +317,7 @@ impl ComputeRaster {
                     triangles,
                     instance_count: draw.instance_count,
                     first_global: global,
+                    sphere: GpuBatch::sphere(draw.bounds),
                 };
                 run.first_threads[n] = *threads;
                 run.count[0] += 1;
@@ -768,7 +789,13 @@ mod wgsl_layout {
             crate::gbuffer::compute_raster_key::RasterKey,
             [],
             "Batch",
-            [first_instance, triangles, instance_count, first_global]
+            [
+                first_instance,
+                triangles,
+                instance_count,
+                first_global,
+                sphere
+            ]
         );
     }
 

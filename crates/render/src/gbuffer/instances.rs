@@ -70,6 +70,7 @@ pub(crate) fn pack_layer(layer: &Layer) -> PackedLayer {
                 instance_count,
                 procedural: batch.mesh.is_procedural(),
                 two_sided,
+                bounds: (!batch.mesh.is_procedural()).then_some(batch.mesh.bounds),
             });
         }
     }

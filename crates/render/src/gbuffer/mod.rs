@@ -118,6 +118,10 @@ pub(crate) struct Draw {
     /// Its instances' materials are double-sided: this draw keeps its back
     /// faces (a batch mixing sides is split in two draws, see [`pack_instances`]).
     pub two_sided: bool,
+    /// The mesh's conservative bounds, before its instances' transforms;
+    /// None for particles, whose triangles come from records that move on
+    /// the GPU.
+    pub bounds: Option<crate::mesh::Aabb>,
 }
 
 /// What every shader that pulls instanced meshes binds beside its view (the
