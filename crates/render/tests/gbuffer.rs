@@ -538,7 +538,7 @@ fn more_meshes_than_one_dispatch_holds_are_rasterized_where_the_hardware_draws_t
             let t = Mat4::from_translation(Vec3::new(
                 (i % 44) as f32 - 22.0,
                 0.0,
-                (i / 44) as f32 * -1.0 + 3.0,
+                3.0 - (i / 44) as f32,
             ));
             DrawBatch {
                 mesh: meshes[i % 2].clone(),

@@ -32,10 +32,33 @@ impl Rect {
     }
 
     /// Grown by `by` texels on every side, within a map of `resolution`.
-    fn grown(&self, by: u32, resolution: u32) -> Rect {
+    pub fn grown(&self, by: u32, resolution: u32) -> Rect {
         let (x, y) = (self.x.saturating_sub(by), self.y.saturating_sub(by));
         let right = (self.x + self.w).saturating_add(by).min(resolution);
         let bottom = (self.y + self.h).saturating_add(by).min(resolution);
+        Rect {
+            x,
+            y,
+            w: right - x,
+            h: bottom - y,
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.w == 0 || self.h == 0
+    }
+
+    /// The smallest rectangle holding both (an empty one holds nothing).
+    pub fn union(self, other: Rect) -> Rect {
+        if self.is_empty() {
+            return other;
+        }
+        if other.is_empty() {
+            return self;
+        }
+        let (x, y) = (self.x.min(other.x), self.y.min(other.y));
+        let right = (self.x + self.w).max(other.x + other.w);
+        let bottom = (self.y + self.h).max(other.y + other.h);
         Rect {
             x,
             y,

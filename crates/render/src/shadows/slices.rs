@@ -53,6 +53,10 @@ impl ShadowMaps {
                 .then(|| caster_bounds(&moving.casters)),
             Sets::One(_) => None,
         };
+        let res = self.settings.resolution;
+        // Layers drawn over the still cache only about the moving casters:
+        // where they were when the layer was last drawn, and where they are.
+        let mut around_moving: Vec<(u32, Rect)> = Vec::new();
         let mut rendered = 0;
         for plan in &self.plans {
             if plan.culled {
@@ -77,6 +81,22 @@ impl ShadowMaps {
                 continue;
             }
             let first = plan.slice * self.per_slice;
+            // Where the moving casters are in each of the slice's layers.
+            let moving_now: Vec<Option<Rect>> = plan
+                .views
+                .iter()
+                .map(|v| {
+                    let (center, radius) = moving_bounds?;
+                    views::sphere_texels(v.view_projection, center, radius, res)
+                })
+                .collect();
+            let remember = |maps: &mut StoredMaps| {
+                for (k, now) in moving_now.iter().enumerate() {
+                    if let Some(slot) = maps.moving_rects.get_mut((first + k as u32) as usize) {
+                        *slot = *now;
+                    }
+                }
+            };
             // The same casters seen through the same filter: each cascade
             // that moved across by whole texels scrolls, one that held is
             // kept, and only the rest are drawn whole.
@@ -90,6 +110,7 @@ impl ShadowMaps {
                 }
                 maps.bare[slice] = false;
                 maps.contents[slice] = Some(content);
+                remember(maps);
                 rendered += 1;
                 continue;
             }
@@ -119,12 +140,30 @@ impl ShadowMaps {
                         // The map is its still cache, and stays so.
                         cx.count("shadow maps reused, moving casters elsewhere", 1);
                         maps.contents[slice] = Some(content);
+                        remember(maps);
                         continue;
                     }
                     maps.bare[slice] = elsewhere;
                     if cached {
                         cx.count("shadow maps drawn over cached still casters", 1);
-                        over.extend(layers);
+                        for (k, layer) in layers.enumerate() {
+                            // Last drawn over this cache through these views: only
+                            // the texels the moving casters left or now reach change.
+                            let around = steady
+                                .then_some(())
+                                .and(maps.moving_rects.get(layer as usize).copied().flatten())
+                                .zip(moving_now[k])
+                                .map(|(before, now)| before.union(now));
+                            match around {
+                                Some(rect) if rect.is_empty() => {
+                                    cx.count("shadow layers kept, moving casters elsewhere", 1);
+                                }
+                                Some(rect) if rect.texels() < Rect::full(res).texels() => {
+                                    around_moving.push((layer, rect));
+                                }
+                                _ => over.push(layer),
+                            }
+                        }
                     } else if steady {
                         cx.count("shadow maps still casters cached", 1);
                         maps.still_contents[slice] = Some(still_content);
@@ -141,13 +180,13 @@ impl ShadowMaps {
                 }
             }
             maps.contents[slice] = Some(content);
+            remember(maps);
             rendered += 1;
         }
         if rendered == 0 {
             return Ok(());
         }
         cx.count("shadow maps rendered", rendered);
-        let res = self.settings.resolution;
         let blur = match self.settings.filter {
             ShadowFilter::Vsm { blur, .. } => blur.min(8),
             _ => 0,
@@ -209,43 +248,18 @@ impl ShadowMaps {
                         moments.push((layer, rect, info));
                     }
                 }
-                let view_projection = all_views(&self.plans, self.per_slice, layer);
                 let strips = rects
                     .into_iter()
                     .enumerate()
                     .map(|(k, rect)| {
-                        let index = layer * 2 + k as u32;
-                        let gpu_camera = self.compute_raster().then(|| {
-                            crate::camera::CameraInput {
-                                view: glam::Mat4::IDENTITY,
-                                projection: strip_projection(view_projection, rect, res),
-                            }
-                            .to_gpu(None, (rect.w, rect.h))
-                        });
-                        // Rasterized together, the strip's camera joins the
-                        // layers' array instead (raster_layered.rs).
-                        let camera = gpu_camera.filter(|_| !self.together).map(|camera| {
-                            renderer.kept_init_at(
-                                self.owner,
-                                "shadow strip camera",
-                                index,
-                                bytemuck::bytes_of(&camera),
-                                wgpu::BufferUsages::UNIFORM,
-                            )
-                        });
-                        let info = renderer.kept_init_at(
-                            self.owner,
-                            "shadow strip",
-                            index,
-                            bytemuck::cast_slice(&region_info(layer, blur, rect)),
-                            wgpu::BufferUsages::UNIFORM,
-                        );
-                        Strip {
+                        self.strip(
+                            renderer,
+                            layer,
                             rect,
-                            info,
-                            camera,
-                            gpu_camera,
-                        }
+                            layer * 2 + k as u32,
+                            STRIP_LABELS,
+                            blur,
+                        )
                     })
                     .collect();
                 jobs.push(Job {
@@ -272,6 +286,30 @@ impl ShadowMaps {
                 target: Target::MapOverStill,
                 strips: Vec::new(),
             }));
+            for &(layer, rect) in &around_moving {
+                jobs.push(Job {
+                    set: moving,
+                    layer,
+                    target: Target::MapOverStill,
+                    strips: vec![self.strip(renderer, layer, rect, layer, AROUND_LABELS, blur)],
+                });
+                if vsm {
+                    let region = rect.grown(blur, res);
+                    let info = renderer.kept_init_at(
+                        self.owner,
+                        "shadow moments around moving casters",
+                        layer,
+                        bytemuck::cast_slice(&region_info(layer, blur, region)),
+                        wgpu::BufferUsages::UNIFORM,
+                    );
+                    moments.push((layer, region, info));
+                }
+            }
+            count(
+                cx,
+                "shadow layers drawn about moving casters",
+                around_moving.len() as u64,
+            );
         }
         // What was rasterized, against what drawing every job's layer whole would have.
         let whole = jobs.iter().filter(|j| j.strips.is_empty()).count() as u64;
@@ -305,6 +343,56 @@ impl ShadowMaps {
         Ok(())
     }
 
+    /// A part of `layer` drawn alone at `rect`: its region uniform and, for
+    /// the compute rasterizer, its camera narrowed to it, kept under the
+    /// node by `labels` (camera, region) at `index`.
+    fn strip(
+        &self,
+        renderer: &Renderer,
+        layer: u32,
+        rect: Rect,
+        index: u32,
+        labels: [&'static str; 2],
+        blur: u32,
+    ) -> Strip {
+        let res = self.settings.resolution;
+        let gpu_camera = self.compute_raster().then(|| {
+            crate::camera::CameraInput {
+                view: glam::Mat4::IDENTITY,
+                projection: strip_projection(
+                    all_views(&self.plans, self.per_slice, layer),
+                    rect,
+                    res,
+                ),
+            }
+            .to_gpu(None, (rect.w, rect.h))
+        });
+        // Rasterized together, the strip's camera joins the layers' array
+        // instead (raster_layered.rs).
+        let camera = gpu_camera.filter(|_| !self.together).map(|camera| {
+            renderer.kept_init_at(
+                self.owner,
+                labels[0],
+                index,
+                bytemuck::bytes_of(&camera),
+                wgpu::BufferUsages::UNIFORM,
+            )
+        });
+        let info = renderer.kept_init_at(
+            self.owner,
+            labels[1],
+            index,
+            bytemuck::cast_slice(&region_info(layer, blur, rect)),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        Strip {
+            rect,
+            info,
+            camera,
+            gpu_camera,
+        }
+    }
+
     /// Per cascade of a slice whose last map was `old`, now to show `new`:
     /// Some(shift) where it moved across by whole texels (or held: (0, 0)),
     /// None where it must be drawn whole. None for the slice where it cannot
@@ -335,6 +423,11 @@ impl ShadowMaps {
         })
     }
 }
+
+/// The kept buffers of a scrolled layer's strips: camera, region.
+const STRIP_LABELS: [&str; 2] = ["shadow strip camera", "shadow strip"];
+/// The kept buffers of a layer drawn about its moving casters: camera, region.
+const AROUND_LABELS: [&str; 2] = ["shadow moving strip camera", "shadow moving strip"];
 
 /// Counted where it happened (a counter of 0 is left out of the report).
 fn count(cx: &mut PassContext<'_>, name: &'static str, n: u64) {

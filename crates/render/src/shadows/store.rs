@@ -73,6 +73,11 @@ pub(super) struct StoredMaps {
     /// VSM: the regions of layers drawn this frame whose moments are still
     /// to compute (whole layers, or about a scrolled layer's new strips).
     pub pending_moments: Vec<(u32, Rect, wgpu::Buffer)>,
+    /// Per layer: the texels that held the moving casters when `depth` was
+    /// last drawn there (empty: none; None: unknown, or anywhere), so the
+    /// next frame over the still cache redraws only there and where they
+    /// are now (slices.rs).
+    pub moving_rects: Vec<Option<Rect>>,
     /// One layer of each map format, where scrolling a layer copies its
     /// kept part through (made the first time a cascade scrolls).
     scratch: Option<wgpu::Texture>,
@@ -166,6 +171,7 @@ impl StoredMaps {
             still_contents: vec![None; slices],
             bare: vec![false; slices],
             pending_moments: Vec::new(),
+            moving_rects: vec![None; layout.layers as usize],
             scratch: None,
             moments_scratch: None,
         }

@@ -300,6 +300,57 @@ pub fn near_far(projection: Mat4) -> Option<(f32, f32)> {
 /// Whether a sphere touches the frustum of `view_projection` (conventional
 /// or reversed depth: only the side planes and the near plane are tested,
 /// which is conservative).
+/// The texels of a map of `resolution` a side seen through `view_projection`
+/// that a sphere may cover, a texel wider on each side (empty where it lies
+/// beside the map): the box of its bounding cube's corners, projected.
+/// None where that cannot bound it (a corner at or behind a perspective
+/// view's eye, or anything not finite).
+pub(super) fn sphere_texels(
+    view_projection: Mat4,
+    center: Vec3,
+    radius: f32,
+    resolution: u32,
+) -> Option<super::scroll::Rect> {
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for k in 0..8 {
+        let corner = center
+            + radius
+                * Vec3::new(
+                    if k & 1 == 0 { -1.0 } else { 1.0 },
+                    if k & 2 == 0 { -1.0 } else { 1.0 },
+                    if k & 4 == 0 { -1.0 } else { 1.0 },
+                );
+        let clip = view_projection * corner.extend(1.0);
+        // NaN fails the finiteness test, so the comparison needs no negation.
+        if !clip.is_finite() || clip.w <= 1e-6 {
+            return None;
+        }
+        let ndc = glam::Vec2::new(clip.x, clip.y) / clip.w;
+        // Texels run right and down from the top left (strip_projection).
+        let texel = glam::Vec2::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * resolution as f32;
+        lo = lo.min(texel);
+        hi = hi.max(texel);
+    }
+    let r = resolution as f32;
+    let (x0, y0) = (
+        (lo.x.floor() - 1.0).clamp(0.0, r),
+        (lo.y.floor() - 1.0).clamp(0.0, r),
+    );
+    let (x1, y1) = (
+        (hi.x.ceil() + 1.0).clamp(0.0, r),
+        (hi.y.ceil() + 1.0).clamp(0.0, r),
+    );
+    Some(super::scroll::Rect {
+        x: x0 as u32,
+        y: y0 as u32,
+        w: (x1 - x0).max(0.0) as u32,
+        h: (y1 - y0).max(0.0) as u32,
+    })
+}
+
 pub fn sphere_in_frustum(view_projection: Mat4, center: Vec3, radius: f32) -> bool {
     let m = view_projection.transpose();
     let (r0, r1, r3) = (m.x_axis, m.y_axis, m.w_axis);
@@ -314,6 +365,67 @@ pub fn sphere_in_frustum(view_projection: Mat4, center: Vec3, radius: f32) -> bo
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sphere_covers_the_texels_of_its_projected_box_a_texel_wider() {
+        use super::super::scroll::Rect;
+        // Identity: NDC -0.5..0.5 is texels 25..75 of 100, y down.
+        let rect = sphere_texels(Mat4::IDENTITY, Vec3::new(0.0, 0.2, 0.0), 0.5, 100);
+        assert_eq!(
+            rect,
+            Some(Rect {
+                x: 24,
+                y: 14,
+                w: 52,
+                h: 52
+            })
+        );
+        // Beside the map: nothing; half over its edge: clipped to it.
+        let beside = sphere_texels(Mat4::IDENTITY, Vec3::new(3.0, 0.0, 0.0), 0.5, 100);
+        assert!(beside.is_some_and(|r| r.is_empty()), "{beside:?}");
+        let edge = sphere_texels(Mat4::IDENTITY, Vec3::new(1.0, 0.0, 0.0), 0.5, 100);
+        assert_eq!(edge.map(|r| (r.x, r.x + r.w)), Some((74, 100)));
+        // Behind a perspective view's eye, or not finite: no bound.
+        let view = glam::camera::rh::view::look_at_mat4(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let projection = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 100.0);
+        let vp = projection * view;
+        assert!(sphere_texels(vp, Vec3::new(0.0, 0.0, -5.0), 1.0, 64).is_some());
+        assert_eq!(sphere_texels(vp, Vec3::new(0.0, 0.0, 0.5), 1.0, 64), None);
+        assert_eq!(
+            sphere_texels(vp, Vec3::new(f32::NAN, 0.0, -5.0), 1.0, 64),
+            None
+        );
+        // Two rectangles' union; an empty one adds nothing.
+        let a = Rect {
+            x: 2,
+            y: 3,
+            w: 4,
+            h: 5,
+        };
+        let b = Rect {
+            x: 10,
+            y: 1,
+            w: 2,
+            h: 2,
+        };
+        assert_eq!(
+            a.union(b),
+            Rect {
+                x: 2,
+                y: 1,
+                w: 10,
+                h: 7
+            }
+        );
+        let none = Rect {
+            x: 50,
+            y: 50,
+            w: 0,
+            h: 0,
+        };
+        assert_eq!(a.union(none), a);
+        assert_eq!(none.union(b), b);
+    }
 
     #[test]
     fn splits_run_from_even_to_logarithmic_and_end_at_far() {
