@@ -1126,6 +1126,144 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
     worst
 }
 
+/// A camera panning while a ball moves over a still scene: the sun's still
+/// casters' cache scrolls with the maps (only its new strips drawn from the
+/// still casters), and the maps are drawn over it only in those strips and
+/// about the ball, where it was and where it is. What the maps hold and the
+/// shadows they cast are what drawing them whole gives, on both rasterizers.
+#[test]
+fn a_panning_camera_scrolls_the_still_cache_and_draws_the_moving_ball_alone() {
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
+    let renderer = test_renderer();
+    let floor = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let ball = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &spreadlight_render::mesh::primitives::sphere(
+                spreadlight_render::mesh::primitives::SphereParams {
+                    radius: 0.4,
+                    sectors: 16,
+                    stacks: 8,
+                },
+            ),
+        )
+        .expect("upload");
+    // A layer of its own, new every frame, as a node upstream of it makes it.
+    let moving = |x: f32| {
+        let t = glam::Mat4::from_translation(Vec3::new(x, 1.0, 1.0));
+        Arc::new(Layer::plain(vec![DrawBatch {
+            mesh: ball.clone(),
+            instances: vec![InstanceInput {
+                transform: t,
+                previous_transform: t,
+                color: [0.8; 4],
+                material_id: 0,
+                object_id: 0,
+            }],
+        }]))
+    };
+    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
+    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let casting = sun_cascades(&sun, 3, 0.6, 30.0, 0.0);
+    const RES: u64 = 128;
+    let vsm = ShadowFilter::Vsm {
+        bleeding: 0.2,
+        blur: 2,
+    };
+    let cases = [
+        (RasterChoice::Compute, ShadowFilter::Pcf { kernel: 3 }),
+        (RasterChoice::Compute, vsm),
+        (RasterChoice::Hardware, vsm),
+    ];
+    for (case, (raster, filter)) in cases.into_iter().enumerate() {
+        let owner = Some(90 + case as u32);
+        let what = format!("{raster:?} {filter:?}");
+        let settings = ShadowSettings {
+            raster,
+            resolution: RES as u32,
+            ..settings(filter)
+        };
+        let maps = |camera: &CameraInput, owner: Option<u32>, layers: &[Arc<Layer>]| {
+            ShadowMaps::new(
+                &renderer,
+                owner,
+                &casting,
+                layers.to_vec(),
+                camera,
+                settings,
+            )
+            .expect("valid shadows")
+        };
+        // Frames 0 and 1 from a still camera: the still casters' cache is
+        // made; then the camera pans and the ball moves every frame.
+        let steps = [
+            (0.0, -1.0),
+            (0.0, -0.9),
+            (0.2, -0.8),
+            (0.4, -0.7),
+            (0.6, -0.6),
+        ];
+        for (k, (pan, x)) in steps.into_iter().enumerate() {
+            let camera = camera_moved(pan);
+            let layers = [floor[0].clone(), moving(x)];
+            let m = maps(&camera, owner, &layers);
+            let (image, report) =
+                shade_from(&renderer, camera, &layers, lights.clone(), Some(m.clone()));
+            let counted = |name: &str| report.counter(name);
+            if k >= 2 {
+                let n = counted("shadow layers scrolled over still casters");
+                assert!(n >= 1, "{what}, frame {k}: {:?}", report.counters);
+                assert_eq!(
+                    counted("shadow layers drawn whole"),
+                    0,
+                    "{what}, frame {k}: {:?}",
+                    report.counters
+                );
+                // The still casters' strips and the map's strips and ball:
+                // a small part of drawing the layers whole.
+                assert!(
+                    counted("shadow texels drawn") * 3 <= n * RES * RES,
+                    "{what}, frame {k}: {:?}",
+                    report.counters
+                );
+            }
+            let depth = m
+                .read_depth(&renderer.gpu)
+                .expect("reads")
+                .expect("rendered");
+            let whole = maps(&camera, None, &layers);
+            let (whole_image, _) = shade_from(
+                &renderer,
+                camera,
+                &layers,
+                lights.clone(),
+                Some(whole.clone()),
+            );
+            let whole_depth = whole
+                .read_depth(&renderer.gpu)
+                .expect("reads")
+                .expect("rendered");
+            assert_scrolled_depths_agree(&depth, &whole_depth, &format!("{what}, frame {k}"));
+            let worst = image
+                .pixels
+                .iter()
+                .zip(&whole_image.pixels)
+                .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+                .fold(0.0f32, f32::max);
+            let peak = whole_image
+                .pixels
+                .iter()
+                .map(|p| p[0])
+                .fold(0.0f32, f32::max);
+            assert!(
+                worst <= 1e-3 * peak,
+                "{what}, frame {k}: the maps shade as the whole ones ({worst} of {peak})"
+            );
+        }
+    }
+}
+
 /// A camera panning over a still scene: a sun's cascades scroll (their kept
 /// texels copied, only the uncovered strips drawn, counted), and what they
 /// hold, and the shadows they cast through PCF and VSM, are what drawing

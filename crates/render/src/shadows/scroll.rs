@@ -48,6 +48,22 @@ impl Rect {
         self.w == 0 || self.h == 0
     }
 
+    /// Moved by `shift` texels (right, down) with the map it lies in, as
+    /// [`shift_layer`] moves it, and cut to the map of `resolution`.
+    pub fn shifted(self, (sx, sy): (i32, i32), resolution: u32) -> Rect {
+        let r = i64::from(resolution);
+        let x0 = (i64::from(self.x) + i64::from(sx)).clamp(0, r);
+        let y0 = (i64::from(self.y) + i64::from(sy)).clamp(0, r);
+        let x1 = (i64::from(self.x + self.w) + i64::from(sx)).clamp(0, r);
+        let y1 = (i64::from(self.y + self.h) + i64::from(sy)).clamp(0, r);
+        Rect {
+            x: x0 as u32,
+            y: y0 as u32,
+            w: (x1 - x0) as u32,
+            h: (y1 - y0) as u32,
+        }
+    }
+
     /// The smallest rectangle holding both (an empty one holds nothing).
     pub fn union(self, other: Rect) -> Rect {
         if self.is_empty() {
@@ -182,6 +198,36 @@ mod tests {
 
     /// Every texel of the map is either kept (its old place, moved, is
     /// inside the map) or in exactly one uncovered strip.
+    #[test]
+    fn a_rectangle_moves_with_its_map_and_is_cut_to_it() {
+        let r = Rect {
+            x: 10,
+            y: 20,
+            w: 8,
+            h: 6,
+        };
+        assert_eq!(
+            r.shifted((3, -5), 64),
+            Rect {
+                x: 13,
+                y: 15,
+                w: 8,
+                h: 6
+            }
+        );
+        // Past the left edge, and past the bottom: cut.
+        assert_eq!(
+            r.shifted((-14, 40), 64),
+            Rect {
+                x: 0,
+                y: 60,
+                w: 4,
+                h: 4
+            }
+        );
+        assert!(r.shifted((100, 0), 64).is_empty());
+    }
+
     #[test]
     fn the_uncovered_strips_are_exactly_the_texels_a_shift_does_not_keep() {
         let res = 16;

@@ -57,6 +57,9 @@ impl ShadowMaps {
         // Layers drawn over the still cache only about the moving casters:
         // where they were when the layer was last drawn, and where they are.
         let mut around_moving: Vec<(u32, Rect)> = Vec::new();
+        // Layers whose still cache scrolls with the map: the shift, and the
+        // texels about the moving casters (None: anywhere, the whole layer).
+        let mut scrolled_over: Vec<(u32, (i32, i32), Option<Rect>)> = Vec::new();
         let mut rendered = 0;
         for plan in &self.plans {
             if plan.culled {
@@ -107,6 +110,34 @@ impl ShadowMaps {
                         Some(shift) => scrolled.push((first + k as u32, shift)),
                         None => full.push(first + k as u32),
                     }
+                }
+                maps.bare[slice] = false;
+                maps.contents[slice] = Some(content);
+                remember(maps);
+                rendered += 1;
+                continue;
+            }
+            // Only moving casters changed, and the views moved across by
+            // whole texels: the still cache scrolls with the map, its new
+            // strips drawn from the still casters, and the map is drawn over
+            // it in those strips and about the moving casters.
+            if let Some(shifts) = self.scrolls_over_still(maps, slice, slot.as_ref(), &content) {
+                for (k, shift) in shifts.into_iter().enumerate() {
+                    let layer = first + k as u32;
+                    let before = maps
+                        .moving_rects
+                        .get(layer as usize)
+                        .copied()
+                        .flatten()
+                        .map(|r| r.shifted(shift, res));
+                    let around = before.zip(moving_now[k]).map(|(b, n)| b.union(n));
+                    scrolled_over.push((layer, shift, around));
+                }
+                if let Sets::Split { still: set, .. } = &self.sets {
+                    maps.still_contents[slice] = Some(SliceContent {
+                        casters: set.casters.clone(),
+                        ..content.clone()
+                    });
                 }
                 maps.bare[slice] = false;
                 maps.contents[slice] = Some(content);
@@ -273,6 +304,32 @@ impl ShadowMaps {
             count(cx, "shadow texels kept by scrolling", kept);
         }
         if let Sets::Split { still: s, moving } = &self.sets {
+            // Scrolled still caches and maps move into place first.
+            if !scrolled_over.is_empty() {
+                let (scratch, moments_scratch) = maps.scratch(&device);
+                let still_maps = maps.still(&device);
+                let mut kept = 0u64;
+                for &(layer, shift, _) in &scrolled_over {
+                    if shift == (0, 0) {
+                        continue;
+                    }
+                    for texture in [&maps.depth, &still_maps] {
+                        scroll::shift_layer(cx.encoder(), texture, &scratch, layer, res, shift);
+                    }
+                    if let (Some(m), Some(scratch)) = (&maps.moments, &moments_scratch) {
+                        scroll::shift_layer(cx.encoder(), m, scratch, layer, res, shift);
+                    }
+                    let uncovered: u64 =
+                        scroll::uncovered(res, shift).iter().map(Rect::texels).sum();
+                    kept += Rect::full(res).texels() - uncovered;
+                }
+                count(
+                    cx,
+                    "shadow layers scrolled over still casters",
+                    scrolled_over.len() as u64,
+                );
+                count(cx, "shadow texels kept by scrolling", kept);
+            }
             // The still caches first: the layers drawn over them read them.
             jobs.extend(still.iter().map(|&layer| Job {
                 set: s,
@@ -280,6 +337,32 @@ impl ShadowMaps {
                 target: Target::Still,
                 strips: Vec::new(),
             }));
+            for &(layer, shift, _) in &scrolled_over {
+                let rects = scroll::uncovered(res, shift);
+                if rects.is_empty() {
+                    continue;
+                }
+                let strips = rects
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, rect)| {
+                        self.strip(
+                            renderer,
+                            layer,
+                            rect,
+                            layer * 2 + k as u32,
+                            STILL_STRIP_LABELS,
+                            blur,
+                        )
+                    })
+                    .collect();
+                jobs.push(Job {
+                    set: s,
+                    layer,
+                    target: Target::Still,
+                    strips,
+                });
+            }
             jobs.extend(over.iter().map(|&layer| Job {
                 set: moving,
                 layer,
@@ -310,6 +393,66 @@ impl ShadowMaps {
                 "shadow layers drawn about moving casters",
                 around_moving.len() as u64,
             );
+            for &(layer, shift, around) in &scrolled_over {
+                let uncovered = scroll::uncovered(res, shift);
+                // The new strips and the texels about the moving casters, or
+                // the whole layer where those are not known.
+                let rects: Vec<Rect> = match around {
+                    Some(around) => uncovered
+                        .iter()
+                        .copied()
+                        .chain(Some(around).filter(|r| !r.is_empty()))
+                        .collect(),
+                    None => Vec::new(),
+                };
+                let whole = around.is_none();
+                if !whole && rects.is_empty() {
+                    continue;
+                }
+                let strips = rects
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &rect)| {
+                        self.strip(
+                            renderer,
+                            layer,
+                            rect,
+                            layer * 3 + k as u32,
+                            OVER_STRIP_LABELS,
+                            blur,
+                        )
+                    })
+                    .collect();
+                jobs.push(Job {
+                    set: moving,
+                    layer,
+                    target: Target::MapOverStill,
+                    strips,
+                });
+                if vsm {
+                    let regions = if whole {
+                        vec![Rect::full(res)]
+                    } else {
+                        let mut regions = if uncovered.is_empty() {
+                            Vec::new()
+                        } else {
+                            scroll::moments_regions(res, &uncovered, blur)
+                        };
+                        regions.extend(around.map(|r| r.grown(blur, res)));
+                        regions
+                    };
+                    for (k, region) in regions.into_iter().enumerate() {
+                        let info = renderer.kept_init_at(
+                            self.owner,
+                            "shadow moments scrolled over still casters",
+                            layer * 8 + k as u32,
+                            bytemuck::cast_slice(&region_info(layer, blur, region)),
+                            wgpu::BufferUsages::UNIFORM,
+                        );
+                        moments.push((layer, region, info));
+                    }
+                }
+            }
         }
         // What was rasterized, against what drawing every job's layer whole would have.
         let whole = jobs.iter().filter(|j| j.strips.is_empty()).count() as u64;
@@ -393,6 +536,52 @@ impl ShadowMaps {
         }
     }
 
+    /// Per cascade of a slice whose last map was `old`, drawn over its still
+    /// cache through the same views, now to show `new` from the same still
+    /// casters: the whole-texel shift of each cascade, where every cascade
+    /// moved across by whole texels and some moved. None otherwise: not a
+    /// sun, other still casters, another filter or cascade count, a view
+    /// that turned, or nothing moved (the cache serves as it is).
+    fn scrolls_over_still(
+        &self,
+        maps: &StoredMaps,
+        slice: usize,
+        old: Option<&SliceContent>,
+        new: &SliceContent,
+    ) -> Option<Vec<(i32, i32)>> {
+        let Sets::Split { still, .. } = &self.sets else {
+            return None;
+        };
+        let old = old?;
+        let cache = maps.still_contents.get(slice)?.as_ref()?;
+        let same_still = cache.casters.len() == still.casters.len()
+            && cache
+                .casters
+                .iter()
+                .zip(&still.casters)
+                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b));
+        if self.kind != crate::light_kind::LightKind::Sun
+            || !same_still
+            || !cache.same_views(old)
+            || old.filter != new.filter
+            || old.views.len() != new.views.len()
+            || old.views == new.views
+        {
+            return None;
+        }
+        old.views
+            .iter()
+            .zip(&new.views)
+            .map(|(a, b)| {
+                if a == b {
+                    Some((0, 0))
+                } else {
+                    views::texel_shift(a, b, self.settings.resolution)
+                }
+            })
+            .collect()
+    }
+
     /// Per cascade of a slice whose last map was `old`, now to show `new`:
     /// Some(shift) where it moved across by whole texels (or held: (0, 0)),
     /// None where it must be drawn whole. None for the slice where it cannot
@@ -426,6 +615,10 @@ impl ShadowMaps {
 
 /// The kept buffers of a scrolled layer's strips: camera, region.
 const STRIP_LABELS: [&str; 2] = ["shadow strip camera", "shadow strip"];
+/// The kept buffers of a scrolled still cache's strips: camera, region.
+const STILL_STRIP_LABELS: [&str; 2] = ["shadow still strip camera", "shadow still strip"];
+/// The kept buffers of a map drawn over its scrolled still cache: camera, region.
+const OVER_STRIP_LABELS: [&str; 2] = ["shadow over strip camera", "shadow over strip"];
 /// The kept buffers of a layer drawn about its moving casters: camera, region.
 const AROUND_LABELS: [&str; 2] = ["shadow moving strip camera", "shadow moving strip"];
 

@@ -215,7 +215,11 @@ impl StoredMaps {
                     "shadow maps of still casters",
                     layout,
                     MAP_FORMAT,
-                    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+                    // Copied within itself when a cascade scrolls (slices.rs).
+                    wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC
+                        | wgpu::TextureUsages::COPY_DST,
                 )
             })
             .clone()
