@@ -1126,6 +1126,50 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
     worst
 }
 
+/// A still camera jittered every frame (TAA's sub-pixel offsets): the sun's
+/// cascades hold their boxes, so its maps are drawn once and reused while
+/// nothing moves, where snapped afresh a cascade near a texel's edge flipped
+/// between two places and was scrolled or drawn every frame.
+#[test]
+fn a_jittering_still_camera_reuses_its_sun_cascades() {
+    let renderer = test_renderer();
+    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
+    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let casting = sun_cascades(&sun, 4, 0.6, 30.0, 0.0);
+    for (owner, resolution) in [(110, 256), (111, 1024)] {
+        let mut drawn_after_first = 0;
+        for frame in 0..16u64 {
+            let mut camera = camera();
+            camera.projection = spreadlight_render::camera::jittered(
+                camera.projection,
+                // A 1080p frame's jitter (what TAA moves the projection by).
+                spreadlight_render::camera::jitter_ndc(frame, (1920, 1080)),
+            );
+            let maps = ShadowMaps::new(
+                &renderer,
+                Some(owner),
+                &casting,
+                layers.clone(),
+                &camera,
+                ShadowSettings {
+                    resolution,
+                    ..settings(ShadowFilter::Pcf { kernel: 3 })
+                },
+            )
+            .expect("valid");
+            let (image, report) =
+                shade_from(&renderer, camera, &layers, lights.clone(), Some(maps));
+            assert!(image.all_finite());
+            if frame > 0 {
+                drawn_after_first += report.counter("shadow texels drawn")
+                    + report.counter("shadow texels kept by scrolling");
+            }
+        }
+        assert_eq!(drawn_after_first, 0, "{resolution}: maps drawn again");
+    }
+}
+
 /// A camera panning while a ball moves over a still scene: the sun's still
 /// casters' cache scrolls with the maps (only its new strips drawn from the
 /// still casters), and the maps are drawn over it only in those strips and

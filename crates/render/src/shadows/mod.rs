@@ -332,20 +332,47 @@ impl ShadowMaps {
                     culled: !views::sphere_in_frustum(camera_vp, position, range.max(0.0)),
                 })
                 .collect(),
-            ShadowLights::Sun { lights, cascades } => lights
-                .iter()
-                .map(|&(slice, direction)| SlicePlan {
-                    slice,
-                    views: views::sun(
-                        direction,
-                        camera,
-                        *cascades,
-                        (bounds_center, bounds_radius),
-                        res,
-                    ),
-                    culled: false,
-                })
-                .collect(),
+            ShadowLights::Sun { lights, cascades } => {
+                // A still camera's cascades hold their boxes while they hold
+                // their slices (views::sun_held), whatever its sub-pixel
+                // jitter; a camera that moved places them afresh.
+                let memory = owner.map(|node| renderer.state::<HeldCascades>(u64::from(node)));
+                let mut held = memory
+                    .as_ref()
+                    .map(|m| m.0.lock().unwrap_or_else(|e| e.into_inner()));
+                let still_camera = jitter_free(camera);
+                if let Some(h) = held.as_mut()
+                    && h.camera != Some(still_camera)
+                {
+                    h.camera = Some(still_camera);
+                    h.boxes.clear();
+                }
+                lights
+                    .iter()
+                    .map(|&(slice, direction)| {
+                        let before = held
+                            .as_ref()
+                            .and_then(|h| h.boxes.get(&slice).cloned())
+                            .unwrap_or_default();
+                        let (views, boxes) = views::sun_held(
+                            direction,
+                            camera,
+                            *cascades,
+                            (bounds_center, bounds_radius),
+                            res,
+                            &before,
+                        );
+                        if let Some(h) = held.as_mut() {
+                            h.boxes.insert(slice, boxes);
+                        }
+                        SlicePlan {
+                            slice,
+                            views,
+                            culled: false,
+                        }
+                    })
+                    .collect()
+            }
         };
         let device = &renderer.gpu.device;
         let mut all = vec![
@@ -662,6 +689,34 @@ fn finite_non_negative(v: f32) -> f32 {
 }
 
 /// A sphere around every caster (their meshes' boxes, transformed).
+/// A sun node's cascade boxes as last placed, per slice (views::sun_held),
+/// and the camera they were placed for, its jitter left out.
+#[derive(Default)]
+struct HeldCascades(std::sync::Mutex<Held>);
+
+#[derive(Default)]
+struct Held {
+    camera: Option<[f32; 32]>,
+    boxes: std::collections::HashMap<u32, Vec<Option<views::CascadeBox>>>,
+}
+
+/// `camera`'s view and projection with the terms a sub-pixel jitter moves
+/// (`camera::jittered`: the projection's NDC offset, which a symmetric
+/// frustum has at 0) left out: two frames of a still camera give the same.
+fn jitter_free(camera: &CameraInput) -> [f32; 32] {
+    let mut key = [0.0; 32];
+    key[..16].copy_from_slice(&camera.view.to_cols_array());
+    let mut projection = camera.projection.to_cols_array();
+    // Column 2's x and y, and column 3's: where T(ndc) * P adds ndc times
+    // the projection's last row (-1 at [2][3] for a perspective, 1 at [3][3]
+    // for an orthographic projection).
+    for i in [8, 9, 12, 13] {
+        projection[i] = 0.0;
+    }
+    key[16..].copy_from_slice(&projection);
+    key
+}
+
 fn caster_bounds(layers: &[Arc<Layer>]) -> (Vec3, f32) {
     sphere_around(layers.iter().map(|l| layer_box(l)))
 }

@@ -147,6 +147,34 @@ pub fn sun(
     casters: (Vec3, f32),
     resolution: u32,
 ) -> Vec<LayerView> {
+    sun_held(direction, camera, cascades, casters, resolution, &[]).0
+}
+
+/// Where a texel-by-texel cascade's box was placed: its half width and its
+/// snapped centre in the light's view space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CascadeBox {
+    pub radius: f32,
+    pub center: Vec3,
+}
+
+/// [`sun`], each texel-by-texel cascade (a Cascade Step of 0) holding the
+/// box it had (`held[k]`, as this returned it last time) while that box
+/// still holds the cascade's slice of the frustum: its slice's sphere within
+/// a texel and a half of the held centre across (the box has two texels of
+/// room), the same size and depth. A camera's sub-pixel jitter (TAA) moves
+/// the slices by a fraction of a texel every frame; snapped afresh, a
+/// cascade whose centre lies near a texel's edge flipped between two places
+/// and its map was drawn or scrolled every frame of a still camera. Returns
+/// the views and each cascade's box (None for a stepped cascade).
+pub fn sun_held(
+    direction: Vec3,
+    camera: &CameraInput,
+    cascades: Cascades,
+    casters: (Vec3, f32),
+    resolution: u32,
+    held: &[Option<CascadeBox>],
+) -> (Vec<LayerView>, Vec<Option<CascadeBox>>) {
     let (near, far) = near_far(camera.projection).unwrap_or((0.1, 100.0));
     let distance = if cascades.distance.is_finite() {
         cascades.distance
@@ -177,20 +205,22 @@ pub fn sun(
     let mut start = near;
     splits
         .into_iter()
-        .map(|end| {
+        .enumerate()
+        .map(|(k, end)| {
             let corners = rays
                 .iter()
                 .flat_map(|r| [*r * start, *r * end])
                 .map(|p| to_world.transform_point3(p));
             let corners: Vec<Vec3> = corners.collect();
             let center = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
-            // Two texels of room: snapping the centre moves it by up to one.
-            let mut radius = corners
+            // The slice's sphere.
+            let reach = corners
                 .iter()
                 .map(|c| c.distance(center))
                 .fold(0.0f32, f32::max)
-                .max(1e-3)
-                * (1.0 + 4.0 / res);
+                .max(1e-3);
+            // Two texels of room: snapping the centre moves it by up to one.
+            let mut radius = reach * (1.0 + 4.0 / res);
             let light_view = glam::camera::rh::view::look_to_mat4(Vec3::ZERO, direction, up);
             let c = light_view.transform_point3(center);
             // The box is placed in the light's view space (not through a
@@ -225,14 +255,30 @@ pub fn sun(
                 radius = (radius / unit).ceil() * unit;
                 let texel = 2.0 * radius / res;
                 let along = radius;
-                (
-                    Vec3::new(
-                        (c.x / texel).floor() * texel,
-                        (c.y / texel).floor() * texel,
-                        (c.z / along).floor() * along,
-                    ),
-                    along,
-                )
+                let fresh = Vec3::new(
+                    (c.x / texel).floor() * texel,
+                    (c.y / texel).floor() * texel,
+                    (c.z / along).floor() * along,
+                );
+                // The held box while it holds the slice's sphere across (a
+                // tenth of a texel to spare) and along the light as a fresh
+                // one would (its centre within the box's first radius), and
+                // is at most a percent larger than a fresh one.
+                let kept = held.get(k).copied().flatten().filter(|b| {
+                    let spare = 0.2 * b.radius / res;
+                    b.radius <= radius * 1.01
+                        && (c.x - b.center.x).abs() + reach <= b.radius - spare
+                        && (c.y - b.center.y).abs() + reach <= b.radius - spare
+                        && c.z >= b.center.z
+                        && c.z < b.center.z + b.radius
+                });
+                match kept {
+                    Some(b) => {
+                        radius = b.radius;
+                        (b.center, b.radius)
+                    }
+                    None => (fresh, along),
+                }
             };
             let texel = 2.0 * radius / res;
             // Back to the farthest caster towards the sun (at least the
@@ -247,16 +293,23 @@ pub fn sun(
                 -radius, radius, -radius, radius, 0.0, depth,
             );
             start = end;
-            LayerView {
-                view_projection: projection * view,
-                near: 0.0,
-                far: depth,
-                texel,
-                orthographic: true,
-                split: end,
-            }
+            let placed = (step_share <= 0.0).then_some(CascadeBox {
+                radius,
+                center: snapped,
+            });
+            (
+                LayerView {
+                    view_projection: projection * view,
+                    near: 0.0,
+                    far: depth,
+                    texel,
+                    orthographic: true,
+                    split: end,
+                },
+                placed,
+            )
         })
-        .collect()
+        .unzip()
 }
 
 /// How far every point moved in a layer's map, in whole texels (right,
@@ -493,6 +546,83 @@ mod tests {
                 }
             }
             start = c.split;
+        }
+    }
+
+    #[test]
+    fn a_jittering_still_camera_keeps_its_cascades_and_they_keep_holding_its_slices() {
+        let view =
+            glam::camera::rh::view::look_at_mat4(Vec3::new(3.0, 12.0, 30.0), Vec3::ZERO, Vec3::Y);
+        let base = glam::camera::rh::proj::directx::perspective(0.6, 16.0 / 9.0, 0.1, 1000.0);
+        let cascades = Cascades {
+            count: 4,
+            split_lambda: 0.7,
+            distance: 60.0,
+            step: 0.0,
+        };
+        let direction = Vec3::new(-0.5, -1.0, -0.25);
+        let place = |frame: u64, held: &[Option<CascadeBox>]| {
+            let projection =
+                crate::camera::jittered(base, crate::camera::jitter_ndc(frame, (1920, 1080)));
+            let camera = CameraInput { view, projection };
+            let (views, boxes) =
+                sun_held(direction, &camera, cascades, (Vec3::ZERO, 80.0), 1024, held);
+            (camera, views, boxes)
+        };
+        let (_, first, mut held) = place(0, &[]);
+        assert!(
+            held.iter().all(Option::is_some),
+            "texel by texel: every box is known"
+        );
+        // TAA's eight jitters: every cascade holds its box, bit for bit, and
+        // the box still holds the jittered frustum's slice.
+        for frame in 1..16 {
+            let (camera, views, boxes) = place(frame, &held);
+            for (k, (a, b)) in first.iter().zip(&views).enumerate() {
+                assert_eq!(
+                    a.view_projection, b.view_projection,
+                    "frame {frame}, cascade {k}"
+                );
+            }
+            let to_world = camera.view.inverse();
+            let unproject = camera.projection.inverse();
+            let mut start = 0.1;
+            for v in &views {
+                for (x, y) in [(-1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (1.0, -1.0)] {
+                    for d in [start, v.split] {
+                        let h = unproject * Vec4::new(x, y, 1.0, 1.0);
+                        let ray = h.truncate() / h.w;
+                        let p = to_world.transform_point3(ray / -ray.z * d);
+                        let ndc = v.view_projection.project_point3(p);
+                        assert!(
+                            ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0,
+                            "frame {frame}: {ndc}"
+                        );
+                    }
+                }
+                start = v.split;
+            }
+            held = boxes;
+        }
+        // A box that no longer holds its slice is placed afresh: a box held
+        // four texels to one side (a box has two to two and a half texels of
+        // room).
+        let shifted: Vec<Option<CascadeBox>> = held
+            .iter()
+            .zip(&first)
+            .map(|(b, v)| {
+                b.map(|b| CascadeBox {
+                    center: b.center + Vec3::new(4.0 * v.texel, 0.0, 0.0),
+                    ..b
+                })
+            })
+            .collect();
+        let (_, views, _) = place(0, &shifted);
+        for (k, (a, b)) in first.iter().zip(&views).enumerate() {
+            assert_eq!(
+                a.view_projection, b.view_projection,
+                "cascade {k} placed afresh"
+            );
         }
     }
 
