@@ -41,12 +41,12 @@ struct Batch {
 // pipeline), a thread per triangle, one draw's threads after another's: a
 // dispatch a draw made a thousand small glTF meshes a thousand dispatches,
 // each waiting for the one before it.
-const RUN_BATCHES: u32 = 1024u;
+const RUN_BATCHES: u32 = 256u;
 struct Run {
     batches: array<Batch, RUN_BATCHES>,
     // The run's first thread for each batch, ascending, four to a vector (a
     // uniform array's elements are 16 bytes apart).
-    first_threads: array<vec4<u32>, 256>,
+    first_threads: array<vec4<u32>, 64>,
     // x: batches in the run.
     count: vec4<u32>,
 }

@@ -144,7 +144,9 @@ fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed
                 "frame {frame}: {bytes} bytes uploaded: {:?}",
                 report.counters
             );
-            // The raster's and the resolves' groups bind the same buffers and views.
+            // The raster's and the resolves' groups bind the same buffers and
+            // views: the raster's run (both draws in one dispatch), its tile
+            // kernel's, and the resolve's.
             assert_eq!(
                 report.counter("bind groups created"),
                 0,
@@ -152,7 +154,7 @@ fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed
                 report.counters
             );
             assert!(
-                report.counter("bind groups reused") >= 4,
+                report.counter("bind groups reused") >= 3,
                 "{:?}",
                 report.counters
             );

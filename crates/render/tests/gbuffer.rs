@@ -515,8 +515,8 @@ fn both_rasterizers_see_the_same_scene() {
 #[test]
 fn more_meshes_than_one_dispatch_holds_are_rasterized_where_the_hardware_draws_them() {
     // 1,100 meshes, each its own draw: more than one compute dispatch holds
-    // (RUN_BATCHES, 1,024), so the compute raster runs its draws in two
-    // dispatches, each thread finding its draw among a thousand. Meshes of
+    // (RUN_BATCHES, 256), so the compute raster runs its draws in five
+    // dispatches, each thread finding its draw among up to 256. Meshes of
     // two sizes in turn, so a workgroup's threads span draws of different
     // triangle counts.
     let renderer = test_renderer();

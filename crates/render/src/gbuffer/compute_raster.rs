@@ -70,9 +70,10 @@ impl GpuBatch {
 }
 
 /// The most draws one dispatch rasterizes (`RUN_BATCHES` in raster.wgsl): a
-/// run's uniform is 36 KB whatever it holds (a uniform binding may be 64 KB
-/// on any adapter), and a scene of more draws takes one dispatch per this many.
-const RUN_BATCHES: usize = 1024;
+/// run's uniform is 9 KB whatever it holds, made, compared with last frame's
+/// and kept on every frame a recipe is made, so a scene of more draws takes
+/// one dispatch per this many (four for a thousand glTF meshes).
+const RUN_BATCHES: usize = 256;
 
 /// Matches `Run` in raster.wgsl: draws rasterized in one dispatch, a thread
 /// per triangle of each, one after another.
@@ -232,6 +233,7 @@ pub(crate) struct LayeredView<'b> {
 /// a pipeline and a side of `between`: a dispatch a draw made a scene of a
 /// thousand glTF meshes a thousand dispatches, each waiting on a barrier
 /// for the one before it (2.6 ms on the H200 for 224,000 triangles).
+#[derive(Clone)]
 struct Run {
     uniform: wgpu::Buffer,
     total: u32,
@@ -288,63 +290,31 @@ impl ComputeRaster {
     ) -> Self {
         let mut first_triangle = vec![0u32; instance_count.max(1)];
         let mut global = 0u32;
-        // Runs being filled, by (back faces kept, particles), in the order
-        // each kind first appears; a full run is closed and another opened.
-        let mut open: Vec<((bool, bool), GpuRun, u32)> = Vec::new();
-        let mut closed: Vec<((bool, bool), GpuRun, u32)> = Vec::new();
         for draw in draws {
             let triangles = draw.index_count / 3;
             for k in 0..draw.instance_count {
                 first_triangle[(draw.first_instance + k) as usize] = global + k * triangles;
             }
-            let total = triangles.saturating_mul(draw.instance_count);
-            if total > 0 {
-                let kind = (draw.two_sided, draw.procedural);
-                let at = match open.iter().position(|(k, _, _)| *k == kind) {
-                    Some(at) if (open[at].1.count[0] as usize) < RUN_BATCHES => at,
-                    full => {
-                        if let Some(at) = full {
-                            closed.push(open.remove(at));
-                        }
-                        open.push((kind, bytemuck::Zeroable::zeroed(), 0));
-                        open.len() - 1
-                    }
-                };
-                let (_, run, threads) = &mut open[at];
-                let n = run.count[0] as usize;
-                run.batches[n] = GpuBatch {
-                    first_instance: draw.first_instance,
-                    triangles,
-                    instance_count: draw.instance_count,
-                    first_global: global,
-                    sphere: GpuBatch::sphere(draw.bounds),
-                };
-                run.first_threads[n] = *threads;
-                run.count[0] += 1;
-                *threads = threads.saturating_add(total);
-            }
-            global = global.saturating_add(total);
+            global = global.saturating_add(triangles.saturating_mul(draw.instance_count));
         }
-        closed.extend(open);
-        let runs = closed
-            .into_iter()
-            .enumerate()
-            .map(|(i, ((two_sided, procedural), run, total))| Run {
-                // Kept under the node, one per run: the same buffers (and
-                // bind groups) every frame the draws stay the same.
-                uniform: renderer.kept_init_at(
-                    owner,
-                    labels.run,
-                    i as u32,
-                    bytemuck::bytes_of(&run),
-                    wgpu::BufferUsages::UNIFORM,
-                ),
-                total,
-                draws: u64::from(run.count[0]),
-                procedural,
-                two_sided,
-            })
-            .collect();
+        // The same draws as last time make the same runs: taken from the
+        // node's memo, not built and compared again (a run's uniform is
+        // 9 KB, and recipes are made every frame something upstream moves).
+        let runs = match owner {
+            Some(node) => {
+                let memo = renderer.state::<KeptRuns>(u64::from(node));
+                let mut memo = memo.0.lock().unwrap_or_else(|e| e.into_inner());
+                match memo.get(labels.run) {
+                    Some((last, runs)) if last.as_slice() == draws => runs.clone(),
+                    _ => {
+                        let runs = make_runs(renderer, owner, labels, draws);
+                        memo.insert(labels.run, (draws.to_vec(), runs.clone()));
+                        runs
+                    }
+                }
+            }
+            None => make_runs(renderer, owner, labels, draws),
+        };
         let first_triangle = renderer.kept_init(
             owner,
             labels.first_triangle,
@@ -611,6 +581,78 @@ impl ComputeRaster {
         Ok(targets.visibility.clone())
     }
 }
+
+/// `draws`' runs: those that share a pipeline (back faces kept or not) and
+/// a side of `between` (meshes or particles) together, in draw order, up to
+/// [`RUN_BATCHES`] a run, each run's uniform kept under `owner` by `labels`.
+fn make_runs(
+    renderer: &Renderer,
+    owner: Option<u32>,
+    labels: RasterLabels,
+    draws: &[Draw],
+) -> Vec<Run> {
+    let mut global = 0u32;
+    // Runs being filled, by (back faces kept, particles), in the order
+    // each kind first appears; a full run is closed and another opened.
+    let mut open: Vec<((bool, bool), GpuRun, u32)> = Vec::new();
+    let mut closed: Vec<((bool, bool), GpuRun, u32)> = Vec::new();
+    for draw in draws {
+        let triangles = draw.index_count / 3;
+        let total = triangles.saturating_mul(draw.instance_count);
+        if total > 0 {
+            let kind = (draw.two_sided, draw.procedural);
+            let at = match open.iter().position(|(k, _, _)| *k == kind) {
+                Some(at) if (open[at].1.count[0] as usize) < RUN_BATCHES => at,
+                full => {
+                    if let Some(at) = full {
+                        closed.push(open.remove(at));
+                    }
+                    open.push((kind, bytemuck::Zeroable::zeroed(), 0));
+                    open.len() - 1
+                }
+            };
+            let (_, run, threads) = &mut open[at];
+            let n = run.count[0] as usize;
+            run.batches[n] = GpuBatch {
+                first_instance: draw.first_instance,
+                triangles,
+                instance_count: draw.instance_count,
+                first_global: global,
+                sphere: GpuBatch::sphere(draw.bounds),
+            };
+            run.first_threads[n] = *threads;
+            run.count[0] += 1;
+            *threads = threads.saturating_add(total);
+        }
+        global = global.saturating_add(total);
+    }
+    closed.extend(open);
+    closed
+        .into_iter()
+        .enumerate()
+        .map(|(i, ((two_sided, procedural), run, total))| Run {
+            // Kept under the node, one per run: the same buffers (and
+            // bind groups) every frame the draws stay the same.
+            uniform: renderer.kept_init_at(
+                owner,
+                labels.run,
+                i as u32,
+                bytemuck::bytes_of(&run),
+                wgpu::BufferUsages::UNIFORM,
+            ),
+            total,
+            draws: u64::from(run.count[0]),
+            procedural,
+            two_sided,
+        })
+        .collect()
+}
+
+/// A node's runs as last made, by label (a node with several rasterizers,
+/// a shadow node's caster sets, keeps each apart), with the draws they were
+/// made from.
+#[derive(Default)]
+struct KeptRuns(Mutex<std::collections::HashMap<&'static str, (Vec<Draw>, Vec<Run>)>>);
 
 /// What runs between a raster's meshes and its particles.
 pub(crate) type Between<'b> =

@@ -107,7 +107,7 @@ fn runs<K: PartialEq>(
 }
 
 /// One instanced draw: a mesh and a range of the instance buffer.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Draw {
     pub index_count: u32,
     pub first_instance: u32,
