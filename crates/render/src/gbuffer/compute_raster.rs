@@ -652,7 +652,10 @@ fn make_runs(
 /// a shadow node's caster sets, keeps each apart), with the draws they were
 /// made from.
 #[derive(Default)]
-struct KeptRuns(Mutex<std::collections::HashMap<&'static str, (Vec<Draw>, Vec<Run>)>>);
+struct KeptRuns(Mutex<std::collections::HashMap<&'static str, MadeRuns>>);
+
+/// Runs and the draws they were made from.
+type MadeRuns = (Vec<Draw>, Vec<Run>);
 
 /// What runs between a raster's meshes and its particles.
 pub(crate) type Between<'b> =
