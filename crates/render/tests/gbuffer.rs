@@ -548,15 +548,7 @@ fn more_meshes_than_one_dispatch_holds_are_rasterized_where_the_hardware_draws_t
         .collect();
     let layer = Arc::new(Layer::plain(batches));
     let camera = camera_at(Vec3::new(0.0, 12.0, 14.0));
-    let g = GBuffer::with_raster(
-        &renderer,
-        None,
-        vec![layer.clone()],
-        camera,
-        None,
-        SizeRule::Relative(1.0),
-        RasterChoice::Compute,
-    );
+    let g = drawn_by(&renderer, &layer, camera, RasterChoice::Compute);
     let (report, _) = render(&renderer, &g, &[&g.targets.depth]);
     assert_eq!(report.draws, 1_100, "every mesh is counted as a draw");
     both_rasterizers_agree(&renderer, &layer, camera, (160, 96));
@@ -604,15 +596,7 @@ fn instances_reaching_into_the_view_from_outside_it_are_drawn() {
     let covered: Vec<Vec<bool>> = [RasterChoice::Hardware, RasterChoice::Compute]
         .into_iter()
         .map(|choice| {
-            let g = GBuffer::with_raster(
-                &renderer,
-                None,
-                vec![layer.clone()],
-                camera,
-                None,
-                SizeRule::Relative(1.0),
-                choice,
-            );
+            let g = drawn_by(&renderer, &layer, camera, choice);
             let (report, out) = spreadlight_render::readback::render_and_read(
                 &renderer,
                 g.as_ref(),
@@ -637,6 +621,24 @@ fn instances_reaching_into_the_view_from_outside_it_are_drawn() {
     );
 }
 
+/// A G-buffer of `layer` seen by `camera`, drawn by the `choice` rasterizer.
+fn drawn_by(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    camera: CameraInput,
+    choice: RasterChoice,
+) -> Arc<GBuffer> {
+    GBuffer::with_raster(
+        renderer,
+        None,
+        vec![layer.clone()],
+        camera,
+        None,
+        SizeRule::Relative(1.0),
+        choice,
+    )
+}
+
 fn both_rasterizers_agree(
     renderer: &Renderer,
     layer: &Arc<Layer>,
@@ -645,15 +647,7 @@ fn both_rasterizers_agree(
 ) {
     let mut images = Vec::new();
     for choice in [RasterChoice::Hardware, RasterChoice::Compute] {
-        let g = GBuffer::with_raster(
-            renderer,
-            None,
-            vec![layer.clone()],
-            camera,
-            None,
-            SizeRule::Relative(1.0),
-            choice,
-        );
+        let g = drawn_by(renderer, layer, camera, choice);
         let (report, mut out) = spreadlight_render::readback::render_and_read(
             renderer,
             g.as_ref(),

@@ -407,9 +407,7 @@ fn a_static_scene_renders_no_shadow_map_after_its_first_frame() {
 #[test]
 fn a_stepped_sun_renders_no_cascade_while_the_camera_moves_within_a_step() {
     let renderer = test_renderer();
-    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
-    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let (layers, sun, lights) = sun_scene(&renderer);
     for (owner, raster) in [(40, RasterChoice::Compute), (41, RasterChoice::Hardware)] {
         for step in [0.0, 0.25] {
             let casting = sun_cascades(&sun, 3, 0.6, 30.0, step);
@@ -924,6 +922,46 @@ fn a_node_changing_its_cascades_or_slices_never_reuses_a_store_of_another_layout
     assert!(err.to_string().contains("too high"), "{err}");
 }
 
+/// A ball of radius 0.4 that moves: each frame a layer of its own, new, as
+/// a node upstream of it makes it.
+struct Ball(Arc<spreadlight_render::mesh_arena::GpuMesh>);
+
+impl Ball {
+    fn new(renderer: &Renderer) -> Ball {
+        Ball(
+            renderer
+                .meshes
+                .upload(
+                    &renderer.gpu,
+                    &spreadlight_render::mesh::primitives::sphere(
+                        spreadlight_render::mesh::primitives::SphereParams {
+                            radius: 0.4,
+                            sectors: 16,
+                            stacks: 8,
+                        },
+                    ),
+                )
+                .expect("upload"),
+        )
+    }
+
+    /// This frame's layer: the ball at `at`.
+    fn at(&self, at: Vec3) -> Arc<Layer> {
+        use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
+        let t = glam::Mat4::from_translation(at);
+        Arc::new(Layer::plain(vec![DrawBatch {
+            mesh: self.0.clone(),
+            instances: vec![InstanceInput {
+                transform: t,
+                previous_transform: t,
+                color: [0.8; 4],
+                material_id: 0,
+                object_id: 0,
+            }],
+        }]))
+    }
+}
+
 #[test]
 fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_image() {
     let renderer = test_renderer();
@@ -938,34 +976,8 @@ fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_i
     // light's view, moves each frame (a layer of its own, new every frame, as
     // a node upstream of it makes it).
     let still = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let ball = renderer
-        .meshes
-        .upload(
-            &renderer.gpu,
-            &spreadlight_render::mesh::primitives::sphere(
-                spreadlight_render::mesh::primitives::SphereParams {
-                    radius: 0.4,
-                    sectors: 16,
-                    stacks: 8,
-                },
-            ),
-        )
-        .expect("upload");
-    let moving = |x: f32| {
-        use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
-        let t = glam::Mat4::from_translation(Vec3::new(x, 1.2, 0.3));
-        let batch = DrawBatch {
-            mesh: ball.clone(),
-            instances: vec![InstanceInput {
-                transform: t,
-                previous_transform: t,
-                color: [0.8; 4],
-                material_id: 0,
-                object_id: 0,
-            }],
-        };
-        Arc::new(Layer::plain(vec![batch]))
-    };
+    let ball = Ball::new(&renderer);
+    let moving = |x: f32| ball.at(Vec3::new(x, 1.2, 0.3));
     // PCF, and VSM, whose moments are filtered again about the moving ball.
     let filters = [
         ShadowFilter::Pcf { kernel: 3 },
@@ -1126,6 +1138,100 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
     worst
 }
 
+/// Shadow maps of `casting` through `raster` at `resolution` with `filter`,
+/// seen for `camera`, kept under `owner` (None: drawn whole, nothing kept).
+fn maps_of<'r>(
+    renderer: &'r Renderer,
+    casting: &'r ShadowLights,
+    raster: RasterChoice,
+    resolution: u32,
+    filter: ShadowFilter,
+) -> impl Fn(&CameraInput, Option<u32>, &[Arc<Layer>]) -> Arc<ShadowMaps> + 'r {
+    let settings = ShadowSettings {
+        raster,
+        resolution,
+        ..settings(filter)
+    };
+    move |camera, owner, layers| {
+        ShadowMaps::new(renderer, owner, casting, layers.to_vec(), camera, settings)
+            .expect("valid shadows")
+    }
+}
+
+/// The floor and ball under a casting sun from the upper left: the casters,
+/// the sun and its light buffer.
+fn sun_scene(renderer: &Renderer) -> (Vec<Arc<Layer>>, SunLight, Arc<LightBuffer>) {
+    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
+    let lights = LightBuffer::suns(renderer, &[sun]);
+    (casters(renderer, Vec3::new(0.0, 1.5, 0.0)), sun, lights)
+}
+
+/// No layer of the frame drawn whole, and at most a `share`th of `texels`
+/// (the layers it changed, whole) drawn.
+fn assert_drawn_in_parts(report: &FrameReport, texels: u64, share: u64, what: &str) {
+    assert_eq!(
+        report.counter("shadow layers drawn whole"),
+        0,
+        "{what}: {:?}",
+        report.counters
+    );
+    assert!(
+        report.counter("shadow texels drawn") * share <= texels,
+        "{what}: {:?}",
+        report.counters
+    );
+}
+
+/// The image `whole` (maps from a recipe with no node) shades, and its depth.
+fn drawn_whole(
+    renderer: &Renderer,
+    (camera, layers, lights): (CameraInput, &[Arc<Layer>], &Arc<LightBuffer>),
+    whole: &Arc<ShadowMaps>,
+) -> (ImageF32, Vec<ImageF32>) {
+    let (image, _) = shade_from(
+        renderer,
+        camera,
+        layers,
+        lights.clone(),
+        Some(whole.clone()),
+    );
+    let depth = whole
+        .read_depth(&renderer.gpu)
+        .expect("reads")
+        .expect("rendered");
+    (image, depth)
+}
+
+/// A frame's `image` and maps' `depth` against `whole`, the same frame's
+/// maps from a recipe with no node (drawn whole): the depths agree as
+/// [`assert_scrolled_depths_agree`] asks, and the images within 0.1% of the
+/// brightest pixel.
+fn assert_as_drawn_whole(
+    renderer: &Renderer,
+    (camera, layers, lights): (CameraInput, &[Arc<Layer>], &Arc<LightBuffer>),
+    (image, depth): (&ImageF32, &[ImageF32]),
+    whole: &Arc<ShadowMaps>,
+    what: &str,
+) {
+    let (whole_image, whole_depth) = drawn_whole(renderer, (camera, layers, lights), whole);
+    assert_scrolled_depths_agree(depth, &whole_depth, what);
+    let worst = image
+        .pixels
+        .iter()
+        .zip(&whole_image.pixels)
+        .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+        .fold(0.0f32, f32::max);
+    let peak = whole_image
+        .pixels
+        .iter()
+        .map(|p| p[0])
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst <= 1e-3 * peak,
+        "{what}: the maps shade as the whole ones ({worst} of {peak})"
+    );
+}
+
 /// A still camera jittered every frame (TAA's sub-pixel offsets): the sun's
 /// cascades hold their boxes, so its maps are drawn once and reused while
 /// nothing moves, where snapped afresh a cascade near a texel's edge flipped
@@ -1133,10 +1239,12 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
 #[test]
 fn a_jittering_still_camera_reuses_its_sun_cascades() {
     let renderer = test_renderer();
-    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
-    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let (layers, sun, lights) = sun_scene(&renderer);
     let casting = sun_cascades(&sun, 4, 0.6, 30.0, 0.0);
+    let (raster, pcf) = (
+        ShadowSettings::default().raster,
+        ShadowFilter::Pcf { kernel: 3 },
+    );
     for (owner, resolution) in [(110, 256), (111, 1024)] {
         let mut drawn_after_first = 0;
         for frame in 0..16u64 {
@@ -1146,18 +1254,11 @@ fn a_jittering_still_camera_reuses_its_sun_cascades() {
                 // A 1080p frame's jitter (what TAA moves the projection by).
                 spreadlight_render::camera::jitter_ndc(frame, (1920, 1080)),
             );
-            let maps = ShadowMaps::new(
-                &renderer,
-                Some(owner),
-                &casting,
-                layers.clone(),
+            let maps = maps_of(&renderer, &casting, raster, resolution, pcf)(
                 &camera,
-                ShadowSettings {
-                    resolution,
-                    ..settings(ShadowFilter::Pcf { kernel: 3 })
-                },
-            )
-            .expect("valid");
+                Some(owner),
+                &layers,
+            );
             let (image, report) =
                 shade_from(&renderer, camera, &layers, lights.clone(), Some(maps));
             assert!(image.all_finite());
@@ -1177,36 +1278,10 @@ fn a_jittering_still_camera_reuses_its_sun_cascades() {
 /// shadows they cast are what drawing them whole gives, on both rasterizers.
 #[test]
 fn a_panning_camera_scrolls_the_still_cache_and_draws_the_moving_ball_alone() {
-    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
     let renderer = test_renderer();
     let floor = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let ball = renderer
-        .meshes
-        .upload(
-            &renderer.gpu,
-            &spreadlight_render::mesh::primitives::sphere(
-                spreadlight_render::mesh::primitives::SphereParams {
-                    radius: 0.4,
-                    sectors: 16,
-                    stacks: 8,
-                },
-            ),
-        )
-        .expect("upload");
-    // A layer of its own, new every frame, as a node upstream of it makes it.
-    let moving = |x: f32| {
-        let t = glam::Mat4::from_translation(Vec3::new(x, 1.0, 1.0));
-        Arc::new(Layer::plain(vec![DrawBatch {
-            mesh: ball.clone(),
-            instances: vec![InstanceInput {
-                transform: t,
-                previous_transform: t,
-                color: [0.8; 4],
-                material_id: 0,
-                object_id: 0,
-            }],
-        }]))
-    };
+    let ball = Ball::new(&renderer);
+    let moving = |x: f32| ball.at(Vec3::new(x, 1.0, 1.0));
     let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
     let lights = LightBuffer::suns(&renderer, &[sun]);
     let casting = sun_cascades(&sun, 3, 0.6, 30.0, 0.0);
@@ -1223,22 +1298,7 @@ fn a_panning_camera_scrolls_the_still_cache_and_draws_the_moving_ball_alone() {
     for (case, (raster, filter)) in cases.into_iter().enumerate() {
         let owner = Some(90 + case as u32);
         let what = format!("{raster:?} {filter:?}");
-        let settings = ShadowSettings {
-            raster,
-            resolution: RES as u32,
-            ..settings(filter)
-        };
-        let maps = |camera: &CameraInput, owner: Option<u32>, layers: &[Arc<Layer>]| {
-            ShadowMaps::new(
-                &renderer,
-                owner,
-                &casting,
-                layers.to_vec(),
-                camera,
-                settings,
-            )
-            .expect("valid shadows")
-        };
+        let maps = maps_of(&renderer, &casting, raster, RES as u32, filter);
         // Frames 0 and 1 from a still camera: the still casters' cache is
         // made; then the camera pans and the ball moves every frame.
         let steps = [
@@ -1258,51 +1318,22 @@ fn a_panning_camera_scrolls_the_still_cache_and_draws_the_moving_ball_alone() {
             if k >= 2 {
                 let n = counted("shadow layers scrolled over still casters");
                 assert!(n >= 1, "{what}, frame {k}: {:?}", report.counters);
-                assert_eq!(
-                    counted("shadow layers drawn whole"),
-                    0,
-                    "{what}, frame {k}: {:?}",
-                    report.counters
-                );
                 // The still casters' strips and the map's strips and ball:
                 // a small part of drawing the layers whole.
-                assert!(
-                    counted("shadow texels drawn") * 3 <= n * RES * RES,
-                    "{what}, frame {k}: {:?}",
-                    report.counters
-                );
+                assert_drawn_in_parts(&report, n * RES * RES, 3, &format!("{what}, frame {k}"));
             }
             let depth = m
                 .read_depth(&renderer.gpu)
                 .expect("reads")
                 .expect("rendered");
+            // The same frame drawn whole, by a recipe with no node.
             let whole = maps(&camera, None, &layers);
-            let (whole_image, _) = shade_from(
+            assert_as_drawn_whole(
                 &renderer,
-                camera,
-                &layers,
-                lights.clone(),
-                Some(whole.clone()),
-            );
-            let whole_depth = whole
-                .read_depth(&renderer.gpu)
-                .expect("reads")
-                .expect("rendered");
-            assert_scrolled_depths_agree(&depth, &whole_depth, &format!("{what}, frame {k}"));
-            let worst = image
-                .pixels
-                .iter()
-                .zip(&whole_image.pixels)
-                .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
-                .fold(0.0f32, f32::max);
-            let peak = whole_image
-                .pixels
-                .iter()
-                .map(|p| p[0])
-                .fold(0.0f32, f32::max);
-            assert!(
-                worst <= 1e-3 * peak,
-                "{what}, frame {k}: the maps shade as the whole ones ({worst} of {peak})"
+                (camera, &layers, &lights),
+                (&image, &depth),
+                &whole,
+                &format!("{what}, frame {k}"),
             );
         }
     }
@@ -1317,9 +1348,7 @@ fn a_panning_camera_scrolls_the_still_cache_and_draws_the_moving_ball_alone() {
 #[test]
 fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
     let renderer = test_renderer();
-    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
-    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let (layers, sun, lights) = sun_scene(&renderer);
     let casting = sun_cascades(&sun, 3, 0.6, 30.0, 0.0);
     // Small maps: the compute rasterizer runs on the CPU here (lavapipe).
     const RES: u64 = 128;
@@ -1340,22 +1369,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
         for filter in filters {
             owner += 1;
             let what = format!("{raster:?} {filter:?}");
-            let settings = ShadowSettings {
-                raster,
-                resolution: RES as u32,
-                ..settings(filter)
-            };
-            let maps = |camera: &CameraInput, owner: Option<u32>, layers: &[Arc<Layer>]| {
-                ShadowMaps::new(
-                    &renderer,
-                    owner,
-                    &casting,
-                    layers.to_vec(),
-                    camera,
-                    settings,
-                )
-                .expect("valid shadows")
-            };
+            let maps = maps_of(&renderer, &casting, raster, RES as u32, filter);
             // A frame of the node's maps seen from `camera`: its image, report and depth.
             let frame =
                 |camera: CameraInput, shadow_camera: &CameraInput, layers: &[Arc<Layer>]| {
@@ -1383,17 +1397,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 // Every cascade that changed scrolled; none was drawn whole,
                 // and the strips are a small part of what drawing them whole takes.
                 let n = counted("shadow layers scrolled");
-                assert_eq!(
-                    counted("shadow layers drawn whole"),
-                    0,
-                    "{what}, frame {k}: {:?}",
-                    report.counters
-                );
-                assert!(
-                    counted("shadow texels drawn") * 4 <= n * RES * RES,
-                    "{what}, frame {k}: {:?}",
-                    report.counters
-                );
+                assert_drawn_in_parts(&report, n * RES * RES, 4, &format!("{what}, frame {k}"));
                 assert_eq!(
                     counted("shadow texels drawn") + counted("shadow texels kept by scrolling"),
                     n * RES * RES,
@@ -1402,32 +1406,12 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 scrolled += n;
                 // The same frame drawn whole, by a recipe with no node.
                 let whole = maps(&camera, None, &layers);
-                let (whole_image, _) = shade_from(
+                assert_as_drawn_whole(
                     &renderer,
-                    camera,
-                    &layers,
-                    lights.clone(),
-                    Some(whole.clone()),
-                );
-                let whole_depth = whole
-                    .read_depth(&renderer.gpu)
-                    .expect("reads")
-                    .expect("rendered");
-                assert_scrolled_depths_agree(&depth, &whole_depth, &format!("{what}, frame {k}"));
-                let worst = image
-                    .pixels
-                    .iter()
-                    .zip(&whole_image.pixels)
-                    .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
-                    .fold(0.0f32, f32::max);
-                let peak = whole_image
-                    .pixels
-                    .iter()
-                    .map(|p| p[0])
-                    .fold(0.0f32, f32::max);
-                assert!(
-                    worst <= 1e-3 * peak,
-                    "{what}, frame {k}: the scrolled maps shade as the whole ones ({worst} of {peak})"
+                    (camera, &layers, &lights),
+                    (&image, &depth),
+                    &whole,
+                    &format!("{what}, frame {k}"),
                 );
             }
             // The finest cascade moves a few texels a frame here: it scrolls every time.
@@ -1468,17 +1452,8 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 );
                 let (_, _, depth) = frame(camera_moved(0.0), &camera_moved(0.0), &moved);
                 let whole = maps(&camera_moved(0.0), None, &moved);
-                shade_from(
-                    &renderer,
-                    camera_moved(0.0),
-                    &moved,
-                    lights.clone(),
-                    Some(whole.clone()),
-                );
-                let whole_depth = whole
-                    .read_depth(&renderer.gpu)
-                    .expect("reads")
-                    .expect("rendered");
+                let (_, whole_depth) =
+                    drawn_whole(&renderer, (camera_moved(0.0), &moved, &lights), &whole);
                 assert_scrolled_depths_agree(
                     &depth,
                     &whole_depth,

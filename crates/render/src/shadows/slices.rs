@@ -265,34 +265,16 @@ impl ShadowMaps {
                 let rects = scroll::uncovered(res, shift);
                 kept += Rect::full(res).texels() - rects.iter().map(Rect::texels).sum::<u64>();
                 if vsm {
-                    for (k, rect) in scroll::moments_regions(res, &rects, blur)
-                        .into_iter()
-                        .enumerate()
-                    {
-                        let info = renderer.kept_init_at(
-                            self.owner,
-                            "shadow moments region",
-                            layer * 8 + k as u32,
-                            bytemuck::cast_slice(&region_info(layer, blur, rect)),
-                            wgpu::BufferUsages::UNIFORM,
-                        );
-                        moments.push((layer, rect, info));
-                    }
+                    let regions = scroll::moments_regions(res, &rects, blur);
+                    moments.extend(self.moments_regions(
+                        renderer,
+                        "shadow moments region",
+                        layer,
+                        blur,
+                        regions,
+                    ));
                 }
-                let strips = rects
-                    .into_iter()
-                    .enumerate()
-                    .map(|(k, rect)| {
-                        self.strip(
-                            renderer,
-                            layer,
-                            rect,
-                            layer * 2 + k as u32,
-                            STRIP_LABELS,
-                            blur,
-                        )
-                    })
-                    .collect();
+                let strips = self.strips(renderer, layer, &rects, STRIP_LABELS, blur);
                 jobs.push(Job {
                     set,
                     layer,
@@ -342,20 +324,7 @@ impl ShadowMaps {
                 if rects.is_empty() {
                     continue;
                 }
-                let strips = rects
-                    .into_iter()
-                    .enumerate()
-                    .map(|(k, rect)| {
-                        self.strip(
-                            renderer,
-                            layer,
-                            rect,
-                            layer * 2 + k as u32,
-                            STILL_STRIP_LABELS,
-                            blur,
-                        )
-                    })
-                    .collect();
+                let strips = self.strips(renderer, layer, &rects, STILL_STRIP_LABELS, blur);
                 jobs.push(Job {
                     set: s,
                     layer,
@@ -374,18 +343,16 @@ impl ShadowMaps {
                     set: moving,
                     layer,
                     target: Target::MapOverStill,
-                    strips: vec![self.strip(renderer, layer, rect, layer, AROUND_LABELS, blur)],
+                    strips: self.strips(renderer, layer, &[rect], AROUND_LABELS, blur),
                 });
                 if vsm {
-                    let region = rect.grown(blur, res);
-                    let info = renderer.kept_init_at(
-                        self.owner,
+                    moments.extend(self.moments_regions(
+                        renderer,
                         "shadow moments around moving casters",
                         layer,
-                        bytemuck::cast_slice(&region_info(layer, blur, region)),
-                        wgpu::BufferUsages::UNIFORM,
-                    );
-                    moments.push((layer, region, info));
+                        blur,
+                        vec![rect.grown(blur, res)],
+                    ));
                 }
             }
             count(
@@ -409,20 +376,7 @@ impl ShadowMaps {
                 if !whole && rects.is_empty() {
                     continue;
                 }
-                let strips = rects
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &rect)| {
-                        self.strip(
-                            renderer,
-                            layer,
-                            rect,
-                            layer * 3 + k as u32,
-                            OVER_STRIP_LABELS,
-                            blur,
-                        )
-                    })
-                    .collect();
+                let strips = self.strips(renderer, layer, &rects, OVER_STRIP_LABELS, blur);
                 jobs.push(Job {
                     set: moving,
                     layer,
@@ -441,16 +395,13 @@ impl ShadowMaps {
                         regions.extend(around.map(|r| r.grown(blur, res)));
                         regions
                     };
-                    for (k, region) in regions.into_iter().enumerate() {
-                        let info = renderer.kept_init_at(
-                            self.owner,
-                            "shadow moments scrolled over still casters",
-                            layer * 8 + k as u32,
-                            bytemuck::cast_slice(&region_info(layer, blur, region)),
-                            wgpu::BufferUsages::UNIFORM,
-                        );
-                        moments.push((layer, region, info));
-                    }
+                    moments.extend(self.moments_regions(
+                        renderer,
+                        "shadow moments scrolled over still casters",
+                        layer,
+                        blur,
+                        regions,
+                    ));
                 }
             }
         }
@@ -484,6 +435,59 @@ impl ShadowMaps {
             maps.pending_moments = moments;
         }
         Ok(())
+    }
+
+    /// VSM's `regions` of `layer` to filter again, each with its region
+    /// uniform kept under the node by `label` at the layer's own indices
+    /// (at most eight a layer: a scroll's strips and the map's borders).
+    fn moments_regions(
+        &self,
+        renderer: &Renderer,
+        label: &'static str,
+        layer: u32,
+        blur: u32,
+        regions: Vec<Rect>,
+    ) -> Vec<(u32, Rect, wgpu::Buffer)> {
+        regions
+            .into_iter()
+            .enumerate()
+            .map(|(k, region)| {
+                let info = renderer.kept_init_at(
+                    self.owner,
+                    label,
+                    layer * 8 + k as u32,
+                    bytemuck::cast_slice(&region_info(layer, blur, region)),
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                (layer, region, info)
+            })
+            .collect()
+    }
+
+    /// [`Self::strip`] for each of `rects` of `layer`, kept at the layer's
+    /// own indices (at most [`STRIPS_PER_LAYER`] a layer).
+    fn strips(
+        &self,
+        renderer: &Renderer,
+        layer: u32,
+        rects: &[Rect],
+        labels: [&'static str; 2],
+        blur: u32,
+    ) -> Vec<Strip> {
+        rects
+            .iter()
+            .enumerate()
+            .map(|(k, &rect)| {
+                self.strip(
+                    renderer,
+                    layer,
+                    rect,
+                    layer * STRIPS_PER_LAYER + k as u32,
+                    labels,
+                    blur,
+                )
+            })
+            .collect()
     }
 
     /// A part of `layer` drawn alone at `rect`: its region uniform and, for
@@ -554,14 +558,8 @@ impl ShadowMaps {
         };
         let old = old?;
         let cache = maps.still_contents.get(slice)?.as_ref()?;
-        let same_still = cache.casters.len() == still.casters.len()
-            && cache
-                .casters
-                .iter()
-                .zip(&still.casters)
-                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b));
         if self.kind != crate::light_kind::LightKind::Sun
-            || !same_still
+            || !same_layers(&cache.casters, &still.casters)
             || !cache.same_views(old)
             || old.filter != new.filter
             || old.views.len() != new.views.len()
@@ -569,17 +567,24 @@ impl ShadowMaps {
         {
             return None;
         }
-        old.views
-            .iter()
-            .zip(&new.views)
-            .map(|(a, b)| {
-                if a == b {
-                    Some((0, 0))
-                } else {
-                    views::texel_shift(a, b, self.settings.resolution)
-                }
-            })
-            .collect()
+        self.shifts(old, new).collect()
+    }
+
+    /// Per cascade, how far it moved from `old` to `new` in whole texels
+    /// ((0, 0): it held), None where it did not move by a shift.
+    fn shifts<'c>(
+        &self,
+        old: &'c SliceContent,
+        new: &'c SliceContent,
+    ) -> impl Iterator<Item = Option<(i32, i32)>> + 'c {
+        let resolution = self.settings.resolution;
+        old.views.iter().zip(&new.views).map(move |(a, b)| {
+            if a == b {
+                Some((0, 0))
+            } else {
+                views::texel_shift(a, b, resolution)
+            }
+        })
     }
 
     /// Per cascade of a slice whose last map was `old`, now to show `new`:
@@ -587,31 +592,25 @@ impl ShadowMaps {
     /// None where it must be drawn whole. None for the slice where it cannot
     /// scroll at all: not a sun, other casters, another filter or cascade count.
     fn scrolls(&self, old: &SliceContent, new: &SliceContent) -> Option<Vec<Option<(i32, i32)>>> {
-        let same_casters = old.casters.len() == new.casters.len()
-            && old
-                .casters
-                .iter()
-                .zip(&new.casters)
-                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b));
         let scrollable = self.kind == crate::light_kind::LightKind::Sun
-            && same_casters
+            && same_layers(&old.casters, &new.casters)
             && old.filter == new.filter
             && old.views.len() == new.views.len();
-        scrollable.then(|| {
-            old.views
-                .iter()
-                .zip(&new.views)
-                .map(|(a, b)| {
-                    if a == b {
-                        Some((0, 0))
-                    } else {
-                        views::texel_shift(a, b, self.settings.resolution)
-                    }
-                })
-                .collect()
-        })
+        scrollable.then(|| self.shifts(old, new).collect())
     }
 }
+
+/// The same layers, by identity, in the same order.
+fn same_layers(
+    a: &[std::sync::Arc<crate::gbuffer::Layer>],
+    b: &[std::sync::Arc<crate::gbuffer::Layer>],
+) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(a, b)| std::sync::Arc::ptr_eq(a, b))
+}
+
+/// The most strips a layer is drawn in: a scroll's two, and the texels
+/// about the moving casters.
+const STRIPS_PER_LAYER: u32 = 3;
 
 /// The kept buffers of a scrolled layer's strips: camera, region.
 const STRIP_LABELS: [&str; 2] = ["shadow strip camera", "shadow strip"];
