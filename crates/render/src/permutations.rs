@@ -32,6 +32,7 @@ pub const ENTRY_SHADERS: &[&ShaderFile] = &[
     <crate::shadows::raster_key::ShadowDepthKey as Permutation>::FILE,
     <crate::shadows::raster_key::MomentsKey as Permutation>::FILE,
     <crate::shadows::raster_key::ShadowResolveKey as Permutation>::FILE,
+    <crate::shadows::scroll_key::ShadowScrollKey as Permutation>::FILE,
     <crate::ssao::key::DepthKey as Permutation>::FILE,
     <crate::ssao::key::AoKey as Permutation>::FILE,
     <crate::ssao::key::BlurKey as Permutation>::FILE,

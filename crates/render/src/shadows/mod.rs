@@ -23,6 +23,7 @@ mod raster;
 pub(crate) mod raster_key;
 mod raster_layered;
 mod scroll;
+pub(crate) mod scroll_key;
 mod slices;
 mod store;
 pub mod views;

@@ -2,10 +2,18 @@
 //! snapped to its texel grid (views.rs), so a camera moving across the light
 //! moves the box by whole texels: the map it had, shifted by those texels,
 //! is the new map but for the strips the move uncovers. The kept part is
-//! copied into place (through a scratch layer: a copy within one layer may
-//! not overlap itself) and only the strips are rasterized, clipped to them.
+//! shifted into place (through a scratch layer: a layer cannot be moved
+//! within itself where the two places overlap) and only the strips are
+//! rasterized, clipped to them.
 //! VSM's moments shift the same way; they are filtered again only where
 //! their filter reaches a new strip or the map's border (where it clamps).
+
+use crate::error::RenderError;
+use crate::frame_graph::{Bindings, PassContext};
+use crate::shaders::Permutation;
+use crate::texture_pool::ViewSpec;
+
+use super::scroll_key::ShadowScrollKey;
 
 /// A rectangle of a map layer's texels (x right, y down).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -157,39 +165,40 @@ pub(super) fn moments_regions(resolution: u32, strips: &[Rect], blur: u32) -> Ve
 }
 
 /// Move `layer` of `texture` by `shift` texels (right, down), through
-/// `scratch` (one layer as large, of the same format): the kept part lands
-/// where the new view sees it; the uncovered strips keep stale texels until
-/// they are drawn.
+/// `scratch` (one layer as large, of the same format, storage and sampled):
+/// the kept part lands where the new view sees it; the uncovered strips
+/// keep stale texels until they are drawn. Two dispatches of
+/// `shadows/scroll.wgsl` (`moments`: the two-channel moments), reading
+/// `uniform` (the shift and the layer's size, [`shift_uniform`]).
 pub(super) fn shift_layer(
-    encoder: &mut wgpu::CommandEncoder,
-    texture: &wgpu::Texture,
-    scratch: &wgpu::Texture,
+    cx: &mut PassContext<'_>,
+    uniform: &wgpu::Buffer,
+    (texture, scratch): (&wgpu::Texture, &wgpu::Texture),
     layer: u32,
     resolution: u32,
-    (sx, sy): (i32, i32),
-) {
-    let (ax, ay) = (sx.unsigned_abs(), sy.unsigned_abs());
-    if ax >= resolution || ay >= resolution {
-        return;
+    moments: bool,
+) -> Result<(), RenderError> {
+    let key = ShadowScrollKey { moments }.key();
+    let groups = (resolution.div_ceil(8), resolution.div_ceil(8), 1);
+    let layer_view = cx.view_of(texture, ViewSpec::layer(layer));
+    let scratch_view = cx.view_of(scratch, ViewSpec::layer(0));
+    for (entry, source, target) in [
+        ("to_scratch", &layer_view, &scratch_view),
+        ("back", &scratch_view, &layer_view),
+    ] {
+        let b = Bindings::new()
+            .buffer("shift", uniform)
+            .view("source", source.clone())
+            .view("destination", target.clone());
+        cx.dispatch_shader("shadow scroll", &key, entry, b, groups)?;
     }
-    let size = wgpu::Extent3d {
-        width: resolution - ax,
-        height: resolution - ay,
-        depth_or_array_layers: 1,
-    };
-    // The kept texels: those whose new place is inside the map.
-    let from = (if sx < 0 { ax } else { 0 }, if sy < 0 { ay } else { 0 });
-    let to = (if sx > 0 { ax } else { 0 }, if sy > 0 { ay } else { 0 });
-    fn at(texture: &wgpu::Texture, (x, y): (u32, u32), z: u32) -> wgpu::TexelCopyTextureInfo<'_> {
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d { x, y, z },
-            aspect: wgpu::TextureAspect::All,
-        }
-    }
-    encoder.copy_texture_to_texture(at(texture, from, layer), at(scratch, (0, 0), 0), size);
-    encoder.copy_texture_to_texture(at(scratch, (0, 0), 0), at(texture, to, layer), size);
+    Ok(())
+}
+
+/// What [`shift_layer`]'s shader reads: the shift (texels right, down) and
+/// the layer's size (`Shift` in shadows/scroll.wgsl).
+pub(super) fn shift_uniform((sx, sy): (i32, i32), resolution: u32) -> [u32; 4] {
+    [sx as u32, sy as u32, resolution, resolution]
 }
 
 #[cfg(test)]

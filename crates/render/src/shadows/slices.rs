@@ -256,11 +256,12 @@ impl ShadowMaps {
             };
             let mut kept = 0u64;
             for &(layer, shift) in &scrolled {
+                let uniform = self.shift_uniform(renderer, layer, shift);
                 if let Some(scratch) = &scratch {
-                    scroll::shift_layer(cx.encoder(), &maps.depth, scratch, layer, res, shift);
+                    scroll::shift_layer(cx, &uniform, (&maps.depth, scratch), layer, res, false)?;
                 }
                 if let (Some(m), Some(scratch)) = (&maps.moments, &moments_scratch) {
-                    scroll::shift_layer(cx.encoder(), m, scratch, layer, res, shift);
+                    scroll::shift_layer(cx, &uniform, (m, scratch), layer, res, true)?;
                 }
                 let rects = scroll::uncovered(res, shift);
                 kept += Rect::full(res).texels() - rects.iter().map(Rect::texels).sum::<u64>();
@@ -295,11 +296,12 @@ impl ShadowMaps {
                     if shift == (0, 0) {
                         continue;
                     }
+                    let uniform = self.shift_uniform(renderer, layer, shift);
                     for texture in [&maps.depth, &still_maps] {
-                        scroll::shift_layer(cx.encoder(), texture, &scratch, layer, res, shift);
+                        scroll::shift_layer(cx, &uniform, (texture, &scratch), layer, res, false)?;
                     }
                     if let (Some(m), Some(scratch)) = (&maps.moments, &moments_scratch) {
-                        scroll::shift_layer(cx.encoder(), m, scratch, layer, res, shift);
+                        scroll::shift_layer(cx, &uniform, (m, scratch), layer, res, true)?;
                     }
                     let uncovered: u64 =
                         scroll::uncovered(res, shift).iter().map(Rect::texels).sum();
@@ -435,6 +437,18 @@ impl ShadowMaps {
             maps.pending_moments = moments;
         }
         Ok(())
+    }
+
+    /// The uniform shifting `layer` by `shift` (scroll::shift_layer), kept
+    /// under the node at the layer's index.
+    fn shift_uniform(&self, renderer: &Renderer, layer: u32, shift: (i32, i32)) -> wgpu::Buffer {
+        renderer.kept_init_at(
+            self.owner,
+            "shadow scroll",
+            layer,
+            bytemuck::cast_slice(&scroll::shift_uniform(shift, self.settings.resolution)),
+            wgpu::BufferUsages::UNIFORM,
+        )
     }
 
     /// VSM's `regions` of `layer` to filter again, each with its region

@@ -184,7 +184,8 @@ impl StoredMaps {
             layers: 1,
             ..self.layout
         };
-        let usage = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
+        // Read and written by shadows/scroll.wgsl.
+        let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
         let depth = self
             .scratch
             .get_or_insert_with(|| array(device, "shadow scroll scratch", one, MAP_FORMAT, usage))
