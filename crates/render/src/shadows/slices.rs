@@ -195,11 +195,7 @@ impl ShadowMaps {
                                 _ => over.push(layer),
                             }
                         }
-                    } else if steady || self.scrolls_by_texels(slot.as_ref(), &content) {
-                        // Views that moved by whole texels are likely to go
-                        // on doing so (a camera moving across the light):
-                        // the cache made now scrolls with them from the next
-                        // frame on (`scrolls_over_still`).
+                    } else if steady {
                         cx.count("shadow maps still casters cached", 1);
                         maps.still_contents[slice] = Some(still_content);
                         still.extend(layers.clone());
@@ -586,18 +582,6 @@ impl ShadowMaps {
             return None;
         }
         self.shifts(old, new).collect()
-    }
-
-    /// Whether every cascade of a sun's slice last drawn as `old` moved by
-    /// whole texels (or held) to show `new`, some of them moving.
-    fn scrolls_by_texels(&self, old: Option<&SliceContent>, new: &SliceContent) -> bool {
-        old.is_some_and(|old| {
-            self.kind == crate::light_kind::LightKind::Sun
-                && old.filter == new.filter
-                && old.views.len() == new.views.len()
-                && old.views != new.views
-                && self.shifts(old, new).all(|s| s.is_some())
-        })
     }
 
     /// Per cascade, how far it moved from `old` to `new` in whole texels
