@@ -32,6 +32,24 @@ links = ''.join('        (\n            from: (%d, "%s"),\n            to: (%d, 
 g = g.replace('    links: [\n', '    links: [\n' + links, 1)
 g = g.replace('"assets/bench-gltf-textured.gltf"', '"%s/patches/assets/bench-gltf-textured.gltf"' % __import__('os').getcwd())
 open(out + '/gltf-sun.ron', 'w').write(g)
+# emeshe-heavy with its camera panning in the patch (an LFO over 40 s moves the
+# camera and its target 20 units across) and its ball still: the sun's
+# cascades scroll (`--orbit` reloads the patch each frame, so every layer is
+# new and every map drawn whole; a camera animated in the patch is not).
+p = open('patches/emeshe-heavy.ron').read()
+def node(i, kind, values):
+    body = ''.join('\n                "%s": %s,' % kv for kv in values)
+    return ('        (\n            id: %d,\n            type: "%s",\n            pos: (0.0, 0.0),\n'
+            '            values: {%s\n            },\n        ),\n' % (i, kind, body))
+nodes = (node(70, 'LFO', [('Period', 'Float([40.0])')]) + node(71, 'Multiply (Value)', [('Input 2', 'Float([20.0])')])
+         + node(72, 'Vector (3d Join)', [('Y', 'Float([12.0])'), ('Z', 'Float([30.0])')]) + node(73, 'Vector (3d Join)', []))
+p = p.replace('    ],\n    links: [', nodes + '    ],\n    links: [', 1)
+links = ''.join('        (\n            from: (%d, "%s"),\n            to: (%d, "%s"),\n        ),\n' % l for l in
+                [(70, 'Output', 71, 'Input 1'), (71, 'Output', 72, 'X'), (72, 'Output', 9, 'Position'),
+                 (71, 'Output', 73, 'X'), (73, 'Output', 9, 'Target')])
+p = p.replace('    links: [\n', '    links: [\n' + links, 1)
+p = p.replace('        (\n            from: (40, "Output"),\n            to: (41, "X"),\n        ),\n', '', 1)
+open(out + '/heavy-pan.ron', 'w').write(p)
 PY
 H=patches/emeshe-heavy.ron
 O="9.Position=0.01"   # the camera orbits: 0.01 radians a frame
@@ -46,4 +64,6 @@ for r in 1 2; do for b in "$old" "$new"; do
   run "$b" heavy-point-frame "$dir/heavy-point.ron" --timing frame
   run "$b" gltf-frame patches/bench-gltf.ron --timing frame
   run "$b" gltf-sun-frame "$dir/gltf-sun.ron" --timing frame
+  run "$b" pan-frame "$dir/heavy-pan.ron" --timing frame
+  run "$b" pan2048-frame "$dir/heavy-pan.ron" --set 21.Resolution=2048 --timing frame
 done; done
