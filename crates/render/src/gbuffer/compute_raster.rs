@@ -288,14 +288,15 @@ impl ComputeRaster {
         draws: &[Draw],
         instance_count: usize,
     ) -> Self {
+        // Each draw's first triangle id: the raster's words and the
+        // resolve's lookup (`first_triangle`) number triangles alike.
+        let firsts = first_ids(draws);
         let mut first_triangle = vec![0u32; instance_count.max(1)];
-        let mut global = 0u32;
-        for draw in draws {
+        for (draw, &first) in draws.iter().zip(&firsts) {
             let triangles = draw.index_count / 3;
             for k in 0..draw.instance_count {
-                first_triangle[(draw.first_instance + k) as usize] = global + k * triangles;
+                first_triangle[(draw.first_instance + k) as usize] = first + k * triangles;
             }
-            global = global.saturating_add(triangles.saturating_mul(draw.instance_count));
         }
         // The same draws as last time make the same runs: taken from the
         // node's memo, not built and compared again (a run's uniform is
@@ -307,13 +308,13 @@ impl ComputeRaster {
                 match memo.get(labels.run) {
                     Some((last, runs)) if last.as_slice() == draws => runs.clone(),
                     _ => {
-                        let runs = make_runs(renderer, owner, labels, draws);
+                        let runs = make_runs(renderer, owner, labels, draws, &firsts);
                         memo.insert(labels.run, (draws.to_vec(), runs.clone()));
                         runs
                     }
                 }
             }
-            None => make_runs(renderer, owner, labels, draws),
+            None => make_runs(renderer, owner, labels, draws, &firsts),
         };
         let first_triangle = renderer.kept_init(
             owner,
@@ -582,21 +583,37 @@ impl ComputeRaster {
     }
 }
 
+/// The first triangle id of each of `draws`: the triangles of all
+/// instances of the draws before it.
+fn first_ids(draws: &[Draw]) -> Vec<u32> {
+    let mut global = 0u32;
+    draws
+        .iter()
+        .map(|draw| {
+            let first = global;
+            let triangles = draw.index_count / 3;
+            global = global.saturating_add(triangles.saturating_mul(draw.instance_count));
+            first
+        })
+        .collect()
+}
+
 /// `draws`' runs: those that share a pipeline (back faces kept or not) and
 /// a side of `between` (meshes or particles) together, in draw order, up to
 /// [`RUN_BATCHES`] a run, each run's uniform kept under `owner` by `labels`.
+/// `firsts`: each draw's first triangle id ([`first_ids`]).
 fn make_runs(
     renderer: &Renderer,
     owner: Option<u32>,
     labels: RasterLabels,
     draws: &[Draw],
+    firsts: &[u32],
 ) -> Vec<Run> {
-    let mut global = 0u32;
     // Runs being filled, by (back faces kept, particles), in the order
     // each kind first appears; a full run is closed and another opened.
     let mut open: Vec<((bool, bool), GpuRun, u32)> = Vec::new();
     let mut closed: Vec<((bool, bool), GpuRun, u32)> = Vec::new();
-    for draw in draws {
+    for (draw, &first) in draws.iter().zip(firsts) {
         let triangles = draw.index_count / 3;
         let total = triangles.saturating_mul(draw.instance_count);
         if total > 0 {
@@ -617,14 +634,13 @@ fn make_runs(
                 first_instance: draw.first_instance,
                 triangles,
                 instance_count: draw.instance_count,
-                first_global: global,
+                first_global: first,
                 sphere: GpuBatch::sphere(draw.bounds),
             };
             run.first_threads[n] = *threads;
             run.count[0] += 1;
             *threads = threads.saturating_add(total);
         }
-        global = global.saturating_add(total);
     }
     closed.extend(open);
     closed
