@@ -689,7 +689,6 @@ fn finite_non_negative(v: f32) -> f32 {
     if v.is_finite() { v.max(0.0) } else { 0.0 }
 }
 
-/// A sphere around every caster (their meshes' boxes, transformed).
 /// A sun node's cascade boxes as last placed, per slice (views::sun_held),
 /// and the camera they were placed for, its jitter left out.
 #[derive(Default)]
@@ -718,6 +717,7 @@ fn jitter_free(camera: &CameraInput) -> [f32; 32] {
     key
 }
 
+/// A sphere around every caster (their meshes' boxes, transformed).
 fn caster_bounds(layers: &[Arc<Layer>]) -> (Vec3, f32) {
     sphere_around(layers.iter().map(|l| layer_box(l)))
 }

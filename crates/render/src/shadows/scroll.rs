@@ -205,8 +205,6 @@ pub(super) fn shift_uniform((sx, sy): (i32, i32), resolution: u32) -> [u32; 4] {
 mod tests {
     use super::*;
 
-    /// Every texel of the map is either kept (its old place, moved, is
-    /// inside the map) or in exactly one uncovered strip.
     #[test]
     fn a_rectangle_moves_with_its_map_and_is_cut_to_it() {
         let r = Rect {
@@ -237,6 +235,41 @@ mod tests {
         assert!(r.shifted((100, 0), 64).is_empty());
     }
 
+    #[test]
+    fn two_rectangles_union_and_an_empty_one_adds_nothing() {
+        let a = Rect {
+            x: 2,
+            y: 3,
+            w: 4,
+            h: 5,
+        };
+        let b = Rect {
+            x: 10,
+            y: 1,
+            w: 2,
+            h: 2,
+        };
+        assert_eq!(
+            a.union(b),
+            Rect {
+                x: 2,
+                y: 1,
+                w: 10,
+                h: 7
+            }
+        );
+        let none = Rect {
+            x: 50,
+            y: 50,
+            w: 0,
+            h: 0,
+        };
+        assert_eq!(a.union(none), a);
+        assert_eq!(none.union(b), b);
+    }
+
+    /// Every texel of the map is either kept (its old place, moved, is
+    /// inside the map) or in exactly one uncovered strip.
     #[test]
     fn the_uncovered_strips_are_exactly_the_texels_a_shift_does_not_keep() {
         let res = 16;

@@ -78,7 +78,7 @@ pub(super) struct StoredMaps {
     /// next frame over the still cache redraws only there and where they
     /// are now (slices.rs).
     pub moving_rects: Vec<Option<Rect>>,
-    /// One layer of each map format, where scrolling a layer copies its
+    /// One layer of each map format, where scrolling a layer shifts its
     /// kept part through (made the first time a cascade scrolls).
     scratch: Option<wgpu::Texture>,
     moments_scratch: Option<wgpu::Texture>,
@@ -134,19 +134,19 @@ fn array(
 
 impl StoredMaps {
     pub fn allocate(device: &wgpu::Device, layout: MapLayout) -> StoredMaps {
+        // Written by the passes (and by shadows/scroll.wgsl when a cascade
+        // scrolls), read by shading.
         let sampled = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
-        let scrolled = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
         let slices = (layout.layers / layout.per_slice.max(1)) as usize;
         StoredMaps {
             layout,
-            // Copied out by tools and tests (`ShadowMaps::read_depth`), and
-            // within itself when a cascade scrolls.
+            // Copied out by tools and tests (`ShadowMaps::read_depth`).
             depth: array(
                 device,
                 "shadow maps",
                 layout,
                 MAP_FORMAT,
-                sampled | scrolled,
+                sampled | wgpu::TextureUsages::COPY_SRC,
             ),
             still: None,
             attachments: layout.hardware.then(|| {
@@ -158,15 +158,9 @@ impl StoredMaps {
                     wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
                 )
             }),
-            moments: layout.vsm.then(|| {
-                array(
-                    device,
-                    "shadow moments",
-                    layout,
-                    MOMENTS_FORMAT,
-                    sampled | scrolled,
-                )
-            }),
+            moments: layout
+                .vsm
+                .then(|| array(device, "shadow moments", layout, MOMENTS_FORMAT, sampled)),
             contents: vec![None; slices],
             still_contents: vec![None; slices],
             bare: vec![false; slices],
@@ -216,11 +210,7 @@ impl StoredMaps {
                     "shadow maps of still casters",
                     layout,
                     MAP_FORMAT,
-                    // Copied within itself when a cascade scrolls (slices.rs).
-                    wgpu::TextureUsages::STORAGE_BINDING
-                        | wgpu::TextureUsages::TEXTURE_BINDING
-                        | wgpu::TextureUsages::COPY_SRC
-                        | wgpu::TextureUsages::COPY_DST,
+                    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
                 )
             })
             .clone()

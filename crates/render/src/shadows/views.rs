@@ -350,9 +350,6 @@ pub fn near_far(projection: Mat4) -> Option<(f32, f32)> {
     (near.is_finite() && far.is_finite() && near > 0.0 && far > near).then_some((near, far))
 }
 
-/// Whether a sphere touches the frustum of `view_projection` (conventional
-/// or reversed depth: only the side planes and the near plane are tested,
-/// which is conservative).
 /// The texels of a map of `resolution` a side seen through `view_projection`
 /// that a sphere may cover, a texel wider on each side (empty where it lies
 /// beside the map): the box of its bounding cube's corners, projected.
@@ -404,6 +401,9 @@ pub(super) fn sphere_texels(
     })
 }
 
+/// Whether a sphere touches the frustum of `view_projection` (conventional
+/// or reversed depth: only the side planes and the near plane are tested,
+/// which is conservative).
 pub fn sphere_in_frustum(view_projection: Mat4, center: Vec3, radius: f32) -> bool {
     let m = view_projection.transpose();
     let (r0, r1, r3) = (m.x_axis, m.y_axis, m.w_axis);
@@ -448,36 +448,6 @@ mod tests {
             sphere_texels(vp, Vec3::new(f32::NAN, 0.0, -5.0), 1.0, 64),
             None
         );
-        // Two rectangles' union; an empty one adds nothing.
-        let a = Rect {
-            x: 2,
-            y: 3,
-            w: 4,
-            h: 5,
-        };
-        let b = Rect {
-            x: 10,
-            y: 1,
-            w: 2,
-            h: 2,
-        };
-        assert_eq!(
-            a.union(b),
-            Rect {
-                x: 2,
-                y: 1,
-                w: 10,
-                h: 7
-            }
-        );
-        let none = Rect {
-            x: 50,
-            y: 50,
-            w: 0,
-            h: 0,
-        };
-        assert_eq!(a.union(none), a);
-        assert_eq!(none.union(b), b);
     }
 
     #[test]
