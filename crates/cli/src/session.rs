@@ -73,8 +73,10 @@ fn start_opening(path: &Path, force_gpu: bool) -> (Option<OpeningGpu>, Option<Ah
     let (send, listed) = std::sync::mpsc::channel();
     let opening = force_gpu.then(|| OpeningGpu::start(listed)).flatten();
     let precomposing = start_precompose(path);
-    // The thread may have ended already (no adapter): nothing is lost.
-    let _ = send.send(listed_pipelines(&precomposing));
+    if opening.is_some() {
+        // The thread may have ended already (no adapter): nothing is lost.
+        let _ = send.send(listed_pipelines(&precomposing));
+    }
     (opening, precomposing)
 }
 
