@@ -276,6 +276,47 @@ fn shade_count(lv: vec4<f32>, rad: vec3<f32>, p: vec3<f32>, s: Surface, sums: pt
 MAIN_WITH(shade_count)
 "#;
 
+// The loop and the range test alone, without reading the radiance: whether
+// workgroup-memory reads, not arithmetic, bound the walk.
+const RANGE_NO_READ_MAIN: &str = r#"
+fn shade_range_no_read(lv: vec4<f32>, rad: vec3<f32>, p: vec3<f32>, s: Surface, sums: ptr<function, Sums>) {
+    let to_light = lv.xyz - p;
+    let d2 = dot(to_light, to_light);
+    let ratio2 = d2 * lv.w;
+    if (!(ratio2 < 1.0)) { return; }
+    (*sums).d += vec3<f32>(1.0 - ratio2);
+}
+MAIN_WITH(shade_range_no_read)
+"#;
+
+// `f32`, with the radiance kept as four halves (8 bytes, not 16) in
+// workgroup memory: what halving the second read gives.
+const F32_PACKED_MAIN: &str = r#"
+var<workgroup> wp: array<vec2<u32>, 256>;
+@compute @workgroup_size(16, 16)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let s = surface_at(gid.xy);
+    let p = vec3<f32>(f32(gid.x) / 1920.0 * 2.0, 0.0, f32(gid.y) / 1080.0 * 2.0);
+    var sums = Sums(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+    for (var b = 0u; b < 4u; b++) {
+        wl[lane] = lights[b * 256u + lane];
+        let r = radiance[b * 256u + lane];
+        wp[lane] = vec2<u32>(pack2x16float(r.xy), pack2x16float(r.zw));
+        workgroupBarrier();
+        for (var i = 0u; i < 256u; i += 2u) {
+            let a = wl[i];
+            let c = wl[i + 1u];
+            let ra = wp[i];
+            let rc = wp[i + 1u];
+            shade32(a, vec3<f32>(unpack2x16float(ra.x), unpack2x16float(ra.y).x), p, s, &sums);
+            shade32(c, vec3<f32>(unpack2x16float(rc.x), unpack2x16float(rc.y).x), p, s, &sums);
+        }
+        workgroupBarrier();
+    }
+    out[gid.y * 1920u + gid.x] = vec4<f32>(sums.s + sums.g + sums.d, 1.0);
+}
+"#;
+
 const MAIN_TEMPLATE: &str = r#"
 @compute @workgroup_size(16, 16)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
@@ -378,6 +419,14 @@ fn main() {
         ("f32", format!("{COMMON}{F32_MAIN}")),
         ("f32 no brdf", with_main(NO_BRDF_MAIN, "shade_geo")),
         ("f32 range only", with_main(RANGE_MAIN, "shade_range")),
+        (
+            "f32 range only, no radiance read",
+            with_main(RANGE_NO_READ_MAIN, "shade_range_no_read"),
+        ),
+        (
+            "f32 radiance in halves",
+            format!("{COMMON}{F32_PACKED_MAIN}"),
+        ),
     ];
     if f16 {
         kernels.push(("f16 brdf", format!("enable f16;\n{COMMON}{F16_MAIN}")));
@@ -477,7 +526,9 @@ fn main() {
                 reference = Some(values);
                 String::from("0")
             }
-            Some(_) if !name.starts_with("f16") => String::from("null"),
+            Some(_) if !(name.starts_with("f16") || name.contains("halves")) => {
+                String::from("null")
+            }
             Some(exact) => {
                 let (mut sum, mut worst) = (0.0f64, 0.0f64);
                 for (a, b) in exact.iter().zip(&values).step_by(4) {
