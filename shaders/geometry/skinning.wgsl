@@ -2,10 +2,11 @@
 // dispatch deforms every deformed instance of a glTF scene. Each job reads a
 // rest mesh in the arena, adds its morph targets' deltas (weighted), blends
 // up to 8 joint matrices, and writes a new mesh in the arena with last
-// frame's positions as previous positions (so velocity sees the motion).
+// frame's positions as previous positions (so velocity sees the motion),
+// and the rest vertex's extras (its colour and second UV set) beside it.
 // Threads are numbered across jobs; a thread finds its job by binary search
 // over the jobs' first threads.
-#import spreadlight::geometry::{vertices, indices, invocation, unit_or, orthogonal_tangent}
+#import spreadlight::geometry::{vertices, extras, indices, invocation, unit_or, orthogonal_tangent}
 #import spreadlight::mesh::Vertex
 
 // Matches `GpuJob` in skinning.rs.
@@ -140,4 +141,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
         orthogonal_tangent(vec4<f32>(tangent, v.tangent.w), normal),
         vec4<f32>(before, v.previous_position.w),
     );
+    extras[job.dst_vertex + i] = extras[job.src_vertex + i];
 }

@@ -1,10 +1,12 @@
 // What every GPU geometry pass shares (crates/render/src/geometry/): the
 // mesh arena read-write, the job (where the input, the output and last
 // frame's output live in the arena), and writing an output vertex with its
-// previous-frame position, so `Velocity: From Geometry` sees deformation.
+// previous-frame position, so `Velocity: From Geometry` sees deformation,
+// and its extras (the second UV set and the colour), which no CPU writes
+// for a mesh a pass makes.
 #define_import_path spreadlight::geometry
 
-#import spreadlight::mesh::Vertex
+#import spreadlight::mesh::{Vertex, VertexExtra}
 
 // Matches `GpuJob` in crates/render/src/geometry/mod.rs.
 struct Job {
@@ -26,6 +28,8 @@ struct Job {
 @group(0) @binding(0) var<storage, read_write> vertices: array<Vertex>;
 @group(0) @binding(1) var<storage, read_write> indices: array<u32>;
 @group(0) @binding(2) var<uniform> job: Job;
+// Parallel to `vertices` (the arena's extra stream); 9, past every pass's own bindings.
+@group(0) @binding(9) var<storage, read_write> extras: array<VertexExtra>;
 
 // The flat invocation index of a dispatch spread over x and y (64 a group).
 fn invocation(id: vec3<u32>, groups: vec3<u32>) -> u32 {
@@ -37,7 +41,9 @@ fn source_vertex(i: u32) -> Vertex {
 }
 
 // Output vertex `i`. Its previous position is vertex `i` of last frame's
-// output when there is one of the same size, else its own (no motion).
+// output when there is one of the same size, else its own (no motion). Its
+// extras are what an uploaded mesh without the streams gets (mesh_arena.rs):
+// the first UV set as the second, and white.
 fn write_vertex(i: u32, position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, tangent: vec4<f32>, geometry_id: f32) {
     var before = position;
     if (job.has_previous == 1u) {
@@ -49,6 +55,7 @@ fn write_vertex(i: u32, position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, t
         tangent,
         vec4<f32>(before, geometry_id),
     );
+    extras[job.dst_vertex + i] = VertexExtra(uv, vec2<u32>(0xffffffffu, 0xffffffffu));
 }
 
 // For passes that keep the topology: index `i` of the output is the input's.

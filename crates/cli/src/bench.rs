@@ -430,9 +430,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             // What the first frame composed, for the next run to compose ahead.
             session.remember_permutations(&args.patch);
         }
-        let geometry_ms = geometry.take_gpu_ms();
+        // Read after the frame's CPU time is taken: reading waits for the GPU.
+        let geometry_ms = geometry.take_gpu_ms(&renderer.gpu)?;
         // Skinning (glTF skins and morph targets) is a part of the above, named apart.
-        let skinning_ms = geometry.take_skinning_gpu_ms();
+        let skinning_ms = geometry.take_skinning_gpu_ms(&renderer.gpu)?;
         if frame < args.warmup {
             continue;
         }

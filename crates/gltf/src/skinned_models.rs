@@ -204,6 +204,27 @@ pub fn two_bone_bar_doc() -> Doc {
     doc
 }
 
+/// [`two_bone_bar`] with a COLOR_0 and a TEXCOORD_1 of its own at every
+/// vertex, and those colours and UVs in vertex order: what a skinned mesh
+/// must keep through its deformation.
+pub fn coloured_two_bone_bar() -> (Vec<u8>, Vec<[f32; 4]>, Vec<[f32; 2]>) {
+    let mut doc = two_bone_bar_doc();
+    let count = 18;
+    let colours: Vec<[f32; 4]> = (0..count)
+        .map(|i| {
+            let t = i as f32 / (count - 1) as f32;
+            [t, 1.0 - t, 0.25, 1.0]
+        })
+        .collect();
+    let uvs: Vec<[f32; 2]> = (0..count).map(|i| [i as f32 * 0.5, 2.0]).collect();
+    let colour = doc.floats(&colours);
+    let uv = doc.floats(&uvs);
+    let attributes = &mut doc.root.meshes[0].primitives[0].attributes;
+    attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colour);
+    attributes.insert(Valid(json::mesh::Semantic::TexCoords(1)), uv);
+    (doc.gltf_data_uri(), colours, uvs)
+}
+
 /// A skinned tube: what [`tube`] makes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TubeSpec {

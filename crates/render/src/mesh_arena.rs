@@ -265,7 +265,10 @@ impl MeshArena {
     }
 
     /// Reserves room for a mesh that a compute pass will write (GPU geometry):
-    /// nothing is uploaded. The caller writes every vertex and index in range.
+    /// nothing is uploaded. The caller writes every vertex, its extras and
+    /// every index in range (shaders/lib/geometry.wgsl's `write_vertex`
+    /// writes the extras; a mesh remade every frame, as a skinned one is,
+    /// would otherwise upload them every frame).
     pub fn allocate(
         &self,
         gpu: &GpuContext,
@@ -282,16 +285,6 @@ impl MeshArena {
                 return Err(e);
             }
         };
-        // The extras of GPU-written meshes are never written by their
-        // passes: no second UV set, white.
-        if vertex_count > 0 {
-            let defaults = vec![GpuVertexExtra::new([0.0; 2], [1.0; 4]); vertex_count as usize];
-            gpu.queue.write_buffer(
-                &inner.extras,
-                u64::from(vertex_range.start) * EXTRA_SIZE,
-                bytemuck::cast_slice(&defaults),
-            );
-        }
         Ok(Arc::new(GpuMesh {
             arena: self.inner.clone(),
             vertices: vertex_range.start..vertex_range.start + vertex_count,

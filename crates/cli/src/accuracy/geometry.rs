@@ -124,9 +124,9 @@ fn time(
     let mut times = Vec::new();
     let mut made = 0;
     for k in 0..warmup + frames.max(1) {
-        stats.take_gpu_ms();
+        stats.take_gpu_ms(&renderer.gpu)?;
         made = make()?.indices.len() / 3;
-        let ms = stats.take_gpu_ms();
+        let ms = stats.take_gpu_ms(&renderer.gpu)?;
         if k >= warmup && renderer.gpu.has_timestamps() {
             times.push(ms);
         }

@@ -85,12 +85,12 @@ fn run(
     };
     system.step(renderer, &birth, 1.0e-6)?;
     let stats = GeometryStats::of(renderer);
-    stats.take_gpu_ms();
+    stats.take_gpu_ms(&renderer.gpu)?;
     let steps = (args.seconds * rate as f32).round() as u32;
     let mut times = Vec::new();
     for _ in 0..steps {
         system.step(renderer, &settings, 1.0 / rate as f32)?;
-        let ms = stats.take_gpu_ms();
+        let ms = stats.take_gpu_ms(&renderer.gpu)?;
         // Without timestamps nothing is timed: no row claims 0 ms.
         if renderer.gpu.has_timestamps() {
             times.push(ms);

@@ -4,9 +4,10 @@
 //! reruns nothing.
 
 use glam::{Mat4, Quat, Vec3};
-use spreadlight_gltf::skinned_models::{BAR_BEND_RATE, two_bone_bar};
+use spreadlight_gltf::skinned_models::{BAR_BEND_RATE, coloured_two_bone_bar, two_bone_bar};
 use spreadlight_graph::{NodeDoc, NodeRun, Patch};
-use spreadlight_render::geometry::{GeometryStats, read_mesh};
+use spreadlight_render::geometry::{GeometryStats, read_extras, read_mesh};
+use spreadlight_render::mesh_arena::GpuVertexExtra;
 
 use super::tests::Run;
 
@@ -120,4 +121,35 @@ fn a_pose_change_settles_in_one_more_frame() {
             .iter()
             .all(|v| v.previous_position[..3] == v.position_u[..3])
     );
+}
+
+/// The skinning kernel copies each rest vertex's extras beside the deformed
+/// vertex: a skinned mesh keeps its COLOR_0 and TEXCOORD_1, frame after
+/// frame, and says so (the G-buffer reads its extras only then). Nothing
+/// uploads them each frame.
+#[test]
+fn a_skinned_mesh_keeps_its_vertex_colours_and_second_uv_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut patch = bar_patch(dir.path(), true);
+    let (file, colours, uvs) = coloured_two_bone_bar();
+    std::fs::write(dir.path().join("bar.gltf"), file).unwrap();
+    let mut run = Run::new(&patch);
+    for frame in 0..3 {
+        assert_eq!(
+            run.frame(frame, 2),
+            (NodeRun::Evaluated, 1),
+            "frame {frame}"
+        );
+        let mesh = run.mesh(2);
+        assert!(mesh.has_colors && mesh.has_uvs1, "frame {frame}");
+        let extras = read_extras(&run.renderer, &mesh).unwrap();
+        assert_eq!(extras.len(), colours.len());
+        for (i, extra) in extras.iter().enumerate() {
+            assert_eq!(
+                *extra,
+                GpuVertexExtra::new(uvs[i], colours[i]),
+                "frame {frame}, vertex {i}"
+            );
+        }
+    }
 }

@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use spreadlight_graph::{FrameClock, NodeDoc, NodeId, NodeRun, Patch, Runtime, Spread};
 use spreadlight_render::Renderer;
-use spreadlight_render::geometry::{GeometryStats, read_mesh};
-use spreadlight_render::mesh_arena::GpuMesh;
+use spreadlight_render::geometry::{GeometryStats, read_extras, read_mesh};
+use spreadlight_render::mesh_arena::{GpuMesh, GpuVertexExtra};
 
 pub(crate) struct Run {
     pub runtime: Runtime,
@@ -73,6 +73,58 @@ fn an_unchanged_geometry_node_reruns_nothing() {
             .all(|v| v.previous_position[..3] == v.position_u[..3]),
         "settled: no motion left"
     );
+}
+
+/// A mesh a pass makes gets, from the pass, the extras an uploaded mesh
+/// without the streams gets (mesh_arena.rs): its first UV set as the second,
+/// and white. Nothing uploads them, and the arena's range may hold what a
+/// freed mesh left there.
+#[test]
+fn a_made_mesh_gets_its_first_uv_set_and_white_as_extras() {
+    for node in [
+        NodeDoc::new(2, "Spherize").with("Amount", vec![0.5f32]),
+        NodeDoc::new(2, "Tessellate"),
+    ] {
+        let name = node.type_name.clone();
+        let mut run = Run::new(&box_into(node));
+        run.frame(0, 2);
+        let mesh = run.mesh(2);
+        let (vertices, _) = read_mesh(&run.renderer, &mesh).unwrap();
+        let extras = read_extras(&run.renderer, &mesh).unwrap();
+        assert_eq!(extras.len(), vertices.len(), "{name}");
+        assert!(
+            vertices.iter().any(|v| v.position_u[3] != 0.0),
+            "{name}: the box has UVs"
+        );
+        for (i, (v, extra)) in vertices.iter().zip(&extras).enumerate() {
+            let uv = [v.position_u[3], v.normal_v[3]];
+            assert_eq!(
+                *extra,
+                GpuVertexExtra::new(uv, [1.0; 4]),
+                "{name}, vertex {i}"
+            );
+        }
+    }
+}
+
+/// With timing on (bench), a dispatch does not wait for its timestamps as
+/// its node evaluates: they are read when the times are taken, once each.
+#[test]
+fn timed_dispatches_are_read_when_their_times_are_taken() {
+    let mut run = Run::new(&box_into(
+        NodeDoc::new(2, "Spherize").with("Amount", vec![0.5f32]),
+    ));
+    let stats = GeometryStats::of(&run.renderer);
+    stats.set_timing(true);
+    run.frame(0, 2);
+    let gpu = &run.renderer.gpu;
+    let ms = stats.take_gpu_ms(gpu).unwrap();
+    if gpu.has_timestamps() {
+        assert!(ms > 0.0, "{ms}");
+    } else {
+        assert_eq!(ms, 0.0, "nothing is timed without timestamps");
+    }
+    assert_eq!(stats.take_gpu_ms(gpu).unwrap(), 0.0, "read once");
 }
 
 #[test]

@@ -27,12 +27,13 @@ pub(crate) mod spline_key;
 pub mod tessellate;
 pub(crate) mod tessellate_key;
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
@@ -42,7 +43,7 @@ pub use decimate::{DecimateParams, decimate};
 pub use displace::{DisplaceParams, displace};
 pub use extrude::extrude;
 pub use pn_triangles::pn_triangles;
-pub use readback::{read_mesh, read_storage};
+pub use readback::{read_extras, read_mesh, read_storage};
 pub use spherize::{SpherizeParams, spherize};
 pub use spline::{Curve, Sweep, curve_point, spline};
 pub use tessellate::tessellate;
@@ -71,6 +72,10 @@ struct GpuJob {
 pub struct GeometryStats {
     dispatches: AtomicU64,
     timing: AtomicBool,
+    /// Timed dispatches whose timestamps are not read yet: read when the
+    /// times are taken, after the frame, so that no dispatch waits for the
+    /// GPU as its node evaluates (a wait `bench` would count as CPU time).
+    pending: Mutex<Vec<(Timer, Work)>>,
     /// GPU nanoseconds of timed dispatches not yet taken.
     gpu_ns: AtomicU64,
     /// Skinning's share of the above, kept apart so benchmarks can name it.
@@ -100,16 +105,31 @@ impl GeometryStats {
         self.dispatches.fetch_add(1, Ordering::Relaxed);
     }
 
-    /// Time every dispatch on the GPU (where the adapter has timestamps).
-    /// Each timed dispatch waits for its result: for benchmarks, not for frames.
+    /// Time every dispatch on the GPU (where the adapter has timestamps):
+    /// for benchmarks, not for frames. The times are read when taken
+    /// ([`GeometryStats::take_gpu_ms`]), which waits for the GPU to finish them.
     pub fn set_timing(&self, on: bool) {
         self.timing.store(on, Ordering::Relaxed);
     }
 
+    /// Reads the timestamps of every timed dispatch not read yet.
+    fn settle(&self, gpu: &GpuContext) -> Result<(), RenderError> {
+        let pending = std::mem::take(&mut *self.pending.lock().unwrap_or_else(|e| e.into_inner()));
+        for (timer, work) in pending {
+            let ns = timer.read_ns(gpu)?;
+            self.gpu_ns.fetch_add(ns, Ordering::Relaxed);
+            if work == Work::Skinning {
+                self.skinning_ns.fetch_add(ns, Ordering::Relaxed);
+            }
+        }
+        Ok(())
+    }
+
     /// GPU milliseconds of the dispatches timed since the last call
-    /// (skinning's included).
-    pub fn take_gpu_ms(&self) -> f64 {
-        self.gpu_ns.swap(0, Ordering::Relaxed) as f64 * 1e-6
+    /// (skinning's included), once the GPU has run them.
+    pub fn take_gpu_ms(&self, gpu: &GpuContext) -> Result<f64, RenderError> {
+        self.settle(gpu)?;
+        Ok(self.gpu_ns.swap(0, Ordering::Relaxed) as f64 * 1e-6)
     }
 
     /// Skinning dispatches (glTF skins and morph targets) submitted so far,
@@ -120,12 +140,14 @@ impl GeometryStats {
 
     /// GPU milliseconds of the skinning dispatches timed since the last call
     /// (a part of what [`GeometryStats::take_gpu_ms`] returns).
-    pub fn take_skinning_gpu_ms(&self) -> f64 {
-        self.skinning_ns.swap(0, Ordering::Relaxed) as f64 * 1e-6
+    pub fn take_skinning_gpu_ms(&self, gpu: &GpuContext) -> Result<f64, RenderError> {
+        self.settle(gpu)?;
+        Ok(self.skinning_ns.swap(0, Ordering::Relaxed) as f64 * 1e-6)
     }
 }
 
 /// A query set for one timed dispatch, its resolve and readback buffers.
+#[derive(Debug)]
 struct Timer {
     set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
@@ -160,10 +182,10 @@ impl Timer {
     }
 
     /// Nanoseconds between the two timestamps, once the GPU has written them.
-    fn read_ns(&self, renderer: &Renderer) -> Result<u64, RenderError> {
-        let bytes = crate::renderer::read_buffer(&renderer.gpu, &self.readback, 16)?;
+    fn read_ns(&self, gpu: &GpuContext) -> Result<u64, RenderError> {
+        let bytes = crate::renderer::read_buffer(gpu, &self.readback, 16)?;
         let ticks: [u64; 2] = bytemuck::pod_read_unaligned(&bytes[..16]);
-        let period = f64::from(renderer.gpu.queue.get_timestamp_period());
+        let period = f64::from(gpu.queue.get_timestamp_period());
         Ok((ticks[1].saturating_sub(ticks[0]) as f64 * period) as u64)
     }
 }
@@ -239,10 +261,12 @@ pub fn run_into(
         _pad: [0; 2],
     };
     let (vertices, indices, _) = renderer.meshes.buffers();
+    let extras = renderer.meshes.extras();
     let job = uniform(renderer, "geometry job", bytemuck::bytes_of(&job));
     let params = (!op.params.is_empty()).then(|| uniform(renderer, "geometry params", op.params));
     let mut resources = vec![
         ("vertices", vertices.as_entire_binding()),
+        ("extras", extras.as_entire_binding()),
         ("indices", indices.as_entire_binding()),
         ("job", job.as_entire_binding()),
     ];
@@ -286,9 +310,11 @@ pub(crate) fn dispatch_steps(
     bindings: &[(&str, &wgpu::Buffer)],
 ) -> Result<(), RenderError> {
     let (vertices, indices, _) = renderer.meshes.buffers();
+    let extras = renderer.meshes.extras();
     for (key, threads) in steps {
         let mut resources = vec![
             ("vertices", vertices.as_entire_binding()),
+            ("extras", extras.as_entire_binding()),
             ("indices", indices.as_entire_binding()),
         ];
         resources.extend(
@@ -366,11 +392,11 @@ pub(crate) fn dispatch_as(
                 stats.skinning.fetch_add(1, Ordering::Relaxed);
             }
             if let Some(t) = timer {
-                let ns = t.read_ns(renderer)?;
-                stats.gpu_ns.fetch_add(ns, Ordering::Relaxed);
-                if work == Work::Skinning {
-                    stats.skinning_ns.fetch_add(ns, Ordering::Relaxed);
-                }
+                stats
+                    .pending
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push((t, work));
             }
             Ok(())
         }

@@ -1,8 +1,8 @@
-//! Reading GPU geometry back (tests, accuracy tables): a mesh's vertices and
-//! indices out of the arena, and any storage buffer's bytes.
+//! Reading GPU geometry back (tests, accuracy tables): a mesh's vertices,
+//! indices and vertex extras out of the arena, and any storage buffer's bytes.
 
 use crate::error::RenderError;
-use crate::mesh_arena::{GpuMesh, GpuVertex};
+use crate::mesh_arena::{GpuMesh, GpuVertex, GpuVertexExtra};
 use crate::renderer::Renderer;
 
 /// `size` bytes of `buffer` from `offset`, copied through a mappable buffer.
@@ -57,5 +57,29 @@ pub fn read_mesh(
     Ok((
         bytemuck::pod_collect_to_vec(&v[..vertex_bytes]),
         bytemuck::pod_collect_to_vec(&i[..mesh.indices.len() * 4]),
+    ))
+}
+
+/// A stored mesh's vertex extras (second UV set and colour), one per vertex.
+pub fn read_extras(
+    renderer: &Renderer,
+    mesh: &GpuMesh,
+) -> Result<Vec<GpuVertexExtra>, RenderError> {
+    if mesh.is_procedural() {
+        return Err(RenderError::Pass {
+            pass: "mesh readback".to_owned(),
+            message: "the mesh is drawn procedurally (particles): its corners store no extras"
+                .to_owned(),
+        });
+    }
+    let size = std::mem::size_of::<GpuVertexExtra>() as u64;
+    let bytes = read_storage(
+        renderer,
+        &renderer.meshes.extras(),
+        u64::from(mesh.vertices.start) * size,
+        mesh.vertices.len() as u64 * size,
+    )?;
+    Ok(bytemuck::pod_collect_to_vec(
+        &bytes[..mesh.vertices.len() * size as usize],
     ))
 }

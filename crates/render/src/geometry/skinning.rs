@@ -211,7 +211,7 @@ pub fn deform(
                 slot.vertices
             )));
         }
-        let output = renderer.meshes.allocate(
+        let mut output = renderer.meshes.allocate(
             &renderer.gpu,
             vertex_count,
             index_count,
@@ -221,6 +221,12 @@ pub fn deform(
                 has_tangents: rest.has_tangents,
             },
         )?;
+        // The kernel copies the rest vertex's extras: the colours and second
+        // UV set stay, so the G-buffer reads them as it would the rest mesh's.
+        if let Some(mesh) = Arc::get_mut(&mut output) {
+            mesh.has_uvs1 = rest.has_uvs1;
+            mesh.has_colors = rest.has_colors;
+        }
         let previous = job
             .previous
             .filter(|p| p.vertices.len() == output.vertices.len());
@@ -265,6 +271,7 @@ pub fn deform(
     }
     // After every allocation: one may have grown the arena.
     let (vertices, indices, _) = renderer.meshes.buffers();
+    let extras = renderer.meshes.extras();
     let work = uniform(
         renderer,
         "skinning dispatch",
@@ -278,6 +285,7 @@ pub fn deform(
         &SkinningKey.key(),
         vec![
             ("vertices", vertices.as_entire_binding()),
+            ("extras", extras.as_entire_binding()),
             ("indices", indices.as_entire_binding()),
             ("work", work.as_entire_binding()),
             ("jobs", jobs_buffer.as_entire_binding()),
