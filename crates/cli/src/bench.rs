@@ -20,6 +20,7 @@ use spreadlight_render::packed_surface::{
     self as packed_surface, BLUR_INPUTS_VAR, MARCH_INPUTS_VAR, Reader, SurfaceInputs,
 };
 use spreadlight_render::renderer::{PassOrder, Recording, Submission, Timing};
+use spreadlight_render::report::GraphTimings;
 use spreadlight_render::resolution::{self, AutoChoice};
 
 use std::path::PathBuf;
@@ -242,12 +243,12 @@ struct Series {
 impl Series {
     /// The figures of one frame: its recording thread's CPU `cpu` (waits
     /// left out) and what the report says of the submission thread.
-    fn push_threads(&mut self, cpu: f64, report: &spreadlight_render::FrameReport) {
-        self.submission_wait.push(report.submission_wait_ms);
-        let thread = report.submission_thread_ms;
+    fn push_threads(&mut self, cpu: f64, timings: &GraphTimings) {
+        self.submission_wait.push(timings.submission_wait_ms);
+        let thread = timings.submission_thread_ms;
         self.submission_thread.extend(thread);
         self.total.push(cpu + thread.unwrap_or(0.0));
-        self.critical.push(cpu + report.submission_wait_ms);
+        self.critical.push(cpu + timings.submission_wait_ms);
     }
 }
 
@@ -282,22 +283,24 @@ fn wall_clock(
         let frame = start_frame + k;
         turn(session, frame);
         session.runtime.invalidate_sinks();
+        renderer.take_graph_timings();
         let step = std::time::Instant::now();
         if session.step(frame, 60.0, &args.patch, reported) {
             bail!("frame {frame} failed (errors above)");
         }
         if k >= args.warmup {
-            let report = renderer.last_report();
+            // Every Output's graph, not only the last one's.
+            let timings = renderer.take_graph_timings();
             // Without the wait for a frame in flight to finish, nor those
             // for the submission thread (counted apart).
             let ms =
-                (step.elapsed().as_secs_f64() * 1e3 - report.wait_ms - report.submission_wait_ms)
+                (step.elapsed().as_secs_f64() * 1e3 - timings.wait_ms - timings.submission_wait_ms)
                     .max(0.0);
             cpu.cpu.push(ms);
-            cpu.push_threads(ms, &report);
-            cpu.record.push(report.record_ms);
-            cpu.submit.push(report.submit_ms);
-            cpu.eval.push((ms - report.record_ms).max(0.0));
+            cpu.push_threads(ms, &timings);
+            cpu.record.push(timings.record_ms);
+            cpu.submit.push(timings.submit_ms);
+            cpu.eval.push((ms - timings.record_ms).max(0.0));
         }
     }
     renderer.wait_idle()?;
@@ -420,6 +423,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     for frame in 0..total {
         turn(&mut session, frame);
         session.runtime.invalidate_sinks();
+        renderer.take_graph_timings();
         let started = std::time::Instant::now();
         if session.step(frame, 60.0, &args.patch, &mut reported) {
             bail!("frame {frame} failed (errors above)");
@@ -438,14 +442,17 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             continue;
         }
         let report = renderer.last_report();
+        // Every Output's graph (a patch may have several), not only the
+        // last one's: what `report` holds.
+        let timings = renderer.take_graph_timings();
         // CPU: evaluating the patch and recording the frame, without the
         // wait for the GPU, nor those for the submission thread (counted apart).
-        let cpu = (wall_ms - report.wait_ms - report.submission_wait_ms).max(0.0);
+        let cpu = (wall_ms - timings.wait_ms - timings.submission_wait_ms).max(0.0);
         series.cpu.push(cpu);
-        series.push_threads(cpu, &report);
-        series.record.push(report.record_ms);
-        series.submit.push(report.submit_ms);
-        series.queue_submit.push(report.queue_submit_ms);
+        series.push_threads(cpu, &timings);
+        series.record.push(timings.record_ms);
+        series.submit.push(timings.submit_ms);
+        series.queue_submit.push(timings.queue_submit_ms);
         series.plans_reused += report.counter("plans reused");
         series.plans_made += report.counter("plans made");
         series.pipelines_kept += report.counter("pipelines kept");
@@ -453,10 +460,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         series.bind_groups_created += report.counter("bind groups created");
         // Which effects ran at half resolution (the last timed frame's).
         half_effects = HALF_COUNTERS.map(|(effect, counter)| (effect, report.counter(counter)));
-        series.eval.push((cpu - report.record_ms).max(0.0));
-        if let Some(span) = report.gpu_frame_ms {
+        series.eval.push((cpu - timings.record_ms).max(0.0));
+        if let Some(span) = timings.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
-            if let Some(sum) = report.gpu_ms {
+            if let Some(sum) = timings.gpu_ms {
                 series.idle.push((span - sum).max(0.0));
             }
         }

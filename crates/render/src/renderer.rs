@@ -163,6 +163,12 @@ impl Renderer {
         self.executor.last_report()
     }
 
+    /// The timings of every frame graph executed since the last call: a
+    /// frame of a patch with several Outputs executes one for each.
+    pub fn take_graph_timings(&self) -> crate::report::GraphTimings {
+        self.executor.take_graph_timings()
+    }
+
     /// The errors of the last executed frame graph, by owner: what a host
     /// checks every frame, without copying the whole report.
     pub fn last_errors(&self) -> Vec<(Option<u32>, String)> {

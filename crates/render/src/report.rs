@@ -267,3 +267,68 @@ mod tests {
         assert!(!sao.is("SAO", Some("blur x")));
     }
 }
+
+/// The timings of every frame graph executed since they were last taken
+/// ([`crate::Renderer::take_graph_timings`]): a patch with several Outputs
+/// executes a graph for each in one frame, and a host timing the frame
+/// needs all of them, not the last one's ([`FrameReport`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GraphTimings {
+    /// Frame graphs executed.
+    pub graphs: u32,
+    /// The sums of their [`FrameReport`] fields of the same names; a time
+    /// that is None in every report stays None.
+    pub record_ms: f64,
+    pub submit_ms: f64,
+    pub queue_submit_ms: f64,
+    pub wait_ms: f64,
+    pub submission_wait_ms: f64,
+    pub submission_thread_ms: Option<f64>,
+    pub gpu_ms: Option<f64>,
+    pub gpu_frame_ms: Option<f64>,
+}
+
+impl GraphTimings {
+    /// Adds one executed graph's report.
+    pub fn add(&mut self, report: &FrameReport) {
+        fn plus(sum: Option<f64>, value: Option<f64>) -> Option<f64> {
+            match (sum, value) {
+                (None, None) => None,
+                (a, b) => Some(a.unwrap_or(0.0) + b.unwrap_or(0.0)),
+            }
+        }
+        self.graphs += 1;
+        self.record_ms += report.record_ms;
+        self.submit_ms += report.submit_ms;
+        self.queue_submit_ms += report.queue_submit_ms;
+        self.wait_ms += report.wait_ms;
+        self.submission_wait_ms += report.submission_wait_ms;
+        self.submission_thread_ms = plus(self.submission_thread_ms, report.submission_thread_ms);
+        self.gpu_ms = plus(self.gpu_ms, report.gpu_ms);
+        self.gpu_frame_ms = plus(self.gpu_frame_ms, report.gpu_frame_ms);
+    }
+}
+
+#[cfg(test)]
+mod graph_timings_tests {
+    use super::*;
+
+    #[test]
+    fn the_timings_of_several_graphs_add_up() {
+        let report = |record_ms, wait_ms, gpu_frame_ms| FrameReport {
+            record_ms,
+            wait_ms,
+            gpu_frame_ms,
+            ..FrameReport::default()
+        };
+        let mut timings = GraphTimings::default();
+        timings.add(&report(0.25, 1.0, Some(0.5)));
+        timings.add(&report(0.5, 2.0, None));
+        timings.add(&report(0.125, 0.5, Some(0.25)));
+        assert_eq!(timings.graphs, 3);
+        assert_eq!(timings.record_ms, 0.875);
+        assert_eq!(timings.wait_ms, 3.5);
+        assert_eq!(timings.gpu_frame_ms, Some(0.75));
+        assert_eq!(timings.gpu_ms, None, "untimed everywhere: none");
+    }
+}

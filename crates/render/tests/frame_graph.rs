@@ -879,6 +879,22 @@ fn a_batched_frame_that_fails_validation_is_dropped_and_the_next_names_the_pass(
     assert_eq!(renderer.last_errors(), second.errors);
 }
 
+/// Every graph executed since the timings were last taken counts in them
+/// (a frame of a patch with several Outputs executes one for each); the
+/// last report holds only the last graph's.
+#[test]
+fn the_timings_of_every_graph_executed_are_kept_until_taken() {
+    let renderer = test_renderer();
+    renderer.take_graph_timings();
+    arithmetic_frame(&renderer);
+    arithmetic_frame(&renderer);
+    arithmetic_frame(&renderer);
+    let timings = renderer.take_graph_timings();
+    assert_eq!(timings.graphs, 3);
+    assert!(timings.record_ms >= renderer.last_report().record_ms);
+    assert_eq!(renderer.take_graph_timings().graphs, 0, "taken once");
+}
+
 #[test]
 fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
     let renderer = test_renderer();

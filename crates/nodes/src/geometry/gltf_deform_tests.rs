@@ -130,7 +130,7 @@ fn a_pose_change_settles_in_one_more_frame() {
 #[test]
 fn a_skinned_mesh_keeps_its_vertex_colours_and_second_uv_set() {
     let dir = tempfile::tempdir().unwrap();
-    let mut patch = bar_patch(dir.path(), true);
+    let patch = bar_patch(dir.path(), true);
     let (file, colours, uvs) = coloured_two_bone_bar();
     std::fs::write(dir.path().join("bar.gltf"), file).unwrap();
     let mut run = Run::new(&patch);

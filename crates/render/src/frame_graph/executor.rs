@@ -13,7 +13,7 @@ use super::submitter::{Submission, Submitter};
 use super::{Finisher, PassOrder};
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::report::FrameReport;
+use crate::report::{FrameReport, GraphTimings};
 use crate::shaders::ShaderCache;
 use crate::texture_pool::TexturePool;
 
@@ -71,6 +71,8 @@ pub struct Executor {
     /// Submissions not yet known to be done, oldest first (`Timing::Off`).
     in_flight: Mutex<VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
+    /// The timings of every graph executed since a host last took them.
+    timings: Mutex<GraphTimings>,
     /// Where frames are submitted (submitter.rs); from [`super::SUBMIT_VAR`] at first.
     submission: Mutex<Submission>,
     /// The thread that submits frames with [`Submission::Thread`]; before
@@ -121,6 +123,7 @@ impl Executor {
             encoder_passes: Mutex::new(Default::default()),
             in_flight: Mutex::new(VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
+            timings: Mutex::new(GraphTimings::default()),
             finisher: Finisher::new(gpu.device.clone()),
             submission: Mutex::new(Submission::from_env().map_err(RenderError::Graph)?),
             submitter: Submitter::new(gpu),
@@ -244,12 +247,22 @@ impl Executor {
         self.timestamps.as_ref()
     }
 
-    /// Keep a copy of `report` as the last one (in the last one's storage).
+    /// Keep a copy of `report` as the last one (in the last one's storage),
+    /// and add its timings to those not yet taken.
     pub(crate) fn set_last_report(&self, report: &FrameReport) {
         self.last_report
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .copy_from(report);
+        self.timings
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .add(report);
+    }
+
+    /// The timings of every graph executed since the last call.
+    pub fn take_graph_timings(&self) -> GraphTimings {
+        std::mem::take(&mut *self.timings.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// Remember `submission`; wait until no more than `frames` are unfinished.
