@@ -67,25 +67,44 @@ fn surface_at(gid: vec2<u32>) -> Surface {
 }
 "#;
 
-const F32_MAIN: &str = r#"
-@compute @workgroup_size(16, 16)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
-    let s = surface_at(gid.xy);
-    let p = vec3<f32>(f32(gid.x) / 1920.0 * 2.0, 0.0, f32(gid.y) / 1080.0 * 2.0);
-    var sums = Sums(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-    for (var b = 0u; b < 4u; b++) {
-        wl[lane] = lights[b * 256u + lane];
-        wr[lane] = radiance[b * 256u + lane];
-        workgroupBarrier();
-        for (var i = 0u; i < 256u; i += 2u) {
-            let a = wl[i];
-            let c = wl[i + 1u];
-            shade32(a, wr[i].xyz, p, s, &sums);
-            shade32(c, wr[i + 1u].xyz, p, s, &sums);
-        }
-        workgroupBarrier();
-    }
-    out[gid.y * 1920u + gid.x] = vec4<f32>(sums.s + sums.g + sums.d, 1.0);
+// The shade of every light, through the walk every f32 kernel shares.
+const F32_MAIN: &str = "MAIN_WITH(shade32)";
+
+// What both f16 kernels share: the BRDF of two lights a step in vec2<f16>,
+// from their N.L and V.L and a scale kept within f16's range (at most 1),
+// the weights then scaled by `after` in f32 and added to the f32 sums.
+const F16_BRDF: &str = r#"
+struct Surface16 { nv: f16, vc: f16, a2: f16, lambda_v: f16 }
+struct Pair { spec: vec2<f32>, graz: vec2<f32>, diff: vec2<f32> }
+
+fn surface16(s: Surface) -> Surface16 {
+    return Surface16(f16(s.n_dot_v), f16(s.view_cosine), f16(s.a2), f16(s.lambda_v));
+}
+
+fn weights16(n_dot_l: vec2<f16>, v_dot_l: vec2<f16>, scale: vec2<f16>, s: Surface16, after: vec2<f32>) -> Pair {
+    let length2 = vec2<f16>(2.0) + vec2<f16>(2.0) * v_dot_l;
+    let il = inverseSqrt(max(length2, vec2<f16>(6e-5)));
+    let nh = clamp((vec2<f16>(s.vc) + n_dot_l) * il, vec2<f16>(0.0), vec2<f16>(1.0));
+    let vh = (vec2<f16>(1.0) + v_dot_l) * il;
+    let nl = clamp(n_dot_l, vec2<f16>(0.0), vec2<f16>(1.0));
+    let x = vec2<f16>(1.0) - clamp(vh, vec2<f16>(0.0), vec2<f16>(1.0));
+    let x2 = x * x;
+    let w = x2 * x2 * x;
+    let c = max(nl, vec2<f16>(0.001));
+    let a2 = vec2<f16>(s.a2);
+    let lambda_l = sqrt(c * c * (vec2<f16>(1.0) - a2) + a2);
+    let vden = vec2<f16>(2.0) * (c * vec2<f16>(s.lambda_v) + vec2<f16>(s.nv) * lambda_l);
+    let f = (vec2<f16>(1.0) - nh) * (vec2<f16>(1.0) + nh) + nh * nh * a2;
+    let root = inverseSqrt(vec2<f16>(3.14159265h) * f * f * vden);
+    let scaled = nl * scale;
+    let spec = a2 * root * root * scaled;
+    return Pair(vec2<f32>(spec) * after, vec2<f32>(spec * w) * after, vec2<f32>(scaled - scaled * w) * after);
+}
+
+fn add_pair(w: Pair, ra: vec3<f32>, rb: vec3<f32>, sums: ptr<function, Sums>) {
+    (*sums).s += ra * w.spec.x + rb * w.spec.y;
+    (*sums).g += ra * w.graz.x + rb * w.graz.y;
+    (*sums).d += ra * w.diff.x + rb * w.diff.y;
 }
 "#;
 
@@ -108,42 +127,18 @@ fn geometry(lv: vec4<f32>, p: vec3<f32>, s: Surface) -> vec4<f32> {
     return vec4<f32>(n_dot_l, v_dot_l, attenuation, select(0.0, 1.0, live));
 }
 
-fn shade16(ga: vec4<f32>, gb: vec4<f32>, ra: vec3<f32>, rb: vec3<f32>, s: Surface, nv: f16, vc: f16, a2: f16, lambda_v: f16, sums: ptr<function, Sums>) {
+fn shade16(ga: vec4<f32>, gb: vec4<f32>, ra: vec3<f32>, rb: vec3<f32>, s16: Surface16, sums: ptr<function, Sums>) {
     if (ga.w == 0.0 && gb.w == 0.0) { return; }
     let n_dot_l = vec2<f16>(vec2<f32>(ga.x, gb.x));
     let v_dot_l = vec2<f16>(vec2<f32>(ga.y, gb.y));
-    let length2 = vec2<f16>(2.0) + vec2<f16>(2.0) * v_dot_l;
-    let il = inverseSqrt(max(length2, vec2<f16>(6e-5)));
-    let nh = clamp((vec2<f16>(vc) + n_dot_l) * il, vec2<f16>(0.0), vec2<f16>(1.0));
-    let vh = (vec2<f16>(1.0) + v_dot_l) * il;
-    let nl = clamp(n_dot_l, vec2<f16>(0.0), vec2<f16>(1.0));
-    let x = vec2<f16>(1.0) - clamp(vh, vec2<f16>(0.0), vec2<f16>(1.0));
-    let x2 = x * x;
-    let w = x2 * x2 * x;
-    let c = max(nl, vec2<f16>(0.001));
-    let lambda_l = sqrt(c * c * (vec2<f16>(1.0) - vec2<f16>(a2)) + vec2<f16>(a2));
-    let vden = vec2<f16>(2.0) * (c * vec2<f16>(lambda_v) + vec2<f16>(nv) * lambda_l);
-    let f = (vec2<f16>(1.0) - nh) * (vec2<f16>(1.0) + nh) + nh * nh * vec2<f16>(a2);
-    let root = inverseSqrt(vec2<f16>(3.14159265h) * f * f * vden);
-    let spec16 = vec2<f16>(a2) * root * root * nl;
-    let graz16 = spec16 * w;
-    let diff16 = nl - nl * w;
-    let spec = vec2<f32>(spec16) * vec2<f32>(ga.z, gb.z);
-    let graz = vec2<f32>(graz16) * vec2<f32>(ga.z, gb.z);
-    let diff = vec2<f32>(diff16) * vec2<f32>(ga.z, gb.z);
-    (*sums).s += ra * spec.x + rb * spec.y;
-    (*sums).g += ra * graz.x + rb * graz.y;
-    (*sums).d += ra * diff.x + rb * diff.y;
+    add_pair(weights16(n_dot_l, v_dot_l, vec2<f16>(1.0), s16, vec2<f32>(ga.z, gb.z)), ra, rb, sums);
 }
 
 @compute @workgroup_size(16, 16)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let s = surface_at(gid.xy);
     let p = vec3<f32>(f32(gid.x) / 1920.0 * 2.0, 0.0, f32(gid.y) / 1080.0 * 2.0);
-    let nv = f16(s.n_dot_v);
-    let vc = f16(s.view_cosine);
-    let a2 = f16(s.a2);
-    let lambda_v = f16(s.lambda_v);
+    let s16 = surface16(s);
     var sums = Sums(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
     for (var b = 0u; b < 4u; b++) {
         wl[lane] = lights[b * 256u + lane];
@@ -152,7 +147,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         for (var i = 0u; i < 256u; i += 2u) {
             let ga = geometry(wl[i], p, s);
             let gb = geometry(wl[i + 1u], p, s);
-            shade16(ga, gb, wr[i].xyz, wr[i + 1u].xyz, s, nv, vc, a2, lambda_v, &sums);
+            shade16(ga, gb, wr[i].xyz, wr[i + 1u].xyz, s16, &sums);
         }
         workgroupBarrier();
     }
@@ -164,7 +159,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 // corner (the ceiling of what f16 could give), sums in f32.
 const F16_ALL_MAIN: &str = r#"
 var<workgroup> wh: array<vec4<f16>, 256>;
-fn shade_all(la: vec4<f16>, lb: vec4<f16>, ra: vec3<f32>, rb: vec3<f32>, p: vec3<f16>, n: vec3<f16>, v: vec3<f16>, nv: f16, vc: f16, a2: f16, lambda_v: f16, sums: ptr<function, Sums>) {
+fn shade_all(la: vec4<f16>, lb: vec4<f16>, ra: vec3<f32>, rb: vec3<f32>, p: vec3<f16>, n: vec3<f16>, v: vec3<f16>, s16: Surface16, sums: ptr<function, Sums>) {
     let dx = vec2<f16>(la.x, lb.x) - vec2<f16>(p.x);
     let dy = vec2<f16>(la.y, lb.y) - vec2<f16>(p.y);
     let dz = vec2<f16>(la.z, lb.z) - vec2<f16>(p.z);
@@ -177,31 +172,9 @@ fn shade_all(la: vec4<f16>, lb: vec4<f16>, ra: vec3<f32>, rb: vec3<f32>, p: vec3
     let window = clamp(vec2<f16>(1.0) - ratio2 * ratio2, vec2<f16>(0.0), vec2<f16>(1.0));
     let n_dot_l = facing * inv_d;
     let v_dot_l = (dx * v.x + dy * v.y + dz * v.z) * inv_d;
-    let length2 = vec2<f16>(2.0) + vec2<f16>(2.0) * v_dot_l;
-    let il = inverseSqrt(max(length2, vec2<f16>(6e-5)));
-    let nh = clamp((vec2<f16>(vc) + n_dot_l) * il, vec2<f16>(0.0), vec2<f16>(1.0));
-    let vh = (vec2<f16>(1.0) + v_dot_l) * il;
-    let nl = clamp(n_dot_l, vec2<f16>(0.0), vec2<f16>(1.0));
-    let x = vec2<f16>(1.0) - clamp(vh, vec2<f16>(0.0), vec2<f16>(1.0));
-    let x2 = x * x;
-    let w = x2 * x2 * x;
-    let c = max(nl, vec2<f16>(0.001));
-    let lambda_l = sqrt(c * c * (vec2<f16>(1.0) - vec2<f16>(a2)) + vec2<f16>(a2));
-    let vden = vec2<f16>(2.0) * (c * vec2<f16>(lambda_v) + vec2<f16>(nv) * lambda_l);
-    let f = (vec2<f16>(1.0) - nh) * (vec2<f16>(1.0) + nh) + nh * nh * vec2<f16>(a2);
-    let root = inverseSqrt(vec2<f16>(3.14159265h) * f * f * vden);
+    // The window in f16 (at most 1), the inverse square after, in f32.
     let att = select(vec2<f16>(0.0), window * window, live);
-    let scaled = nl * att;
-    let spec16 = vec2<f16>(a2) * root * root * scaled;
-    let graz16 = spec16 * w;
-    let diff16 = scaled - scaled * w;
-    let inv_sq = vec2<f32>(inv_d * inv_d);
-    let spec = vec2<f32>(spec16) * inv_sq;
-    let graz = vec2<f32>(graz16) * inv_sq;
-    let diff = vec2<f32>(diff16) * inv_sq;
-    (*sums).s += ra * spec.x + rb * spec.y;
-    (*sums).g += ra * graz.x + rb * graz.y;
-    (*sums).d += ra * diff.x + rb * diff.y;
+    add_pair(weights16(n_dot_l, v_dot_l, att, s16, vec2<f32>(inv_d * inv_d)), ra, rb, sums);
 }
 
 @compute @workgroup_size(16, 16)
@@ -212,10 +185,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     let ph = vec3<f16>(p - corner);
     let nh = vec3<f16>(s.n);
     let vh = vec3<f16>(s.v);
-    let nv = f16(s.n_dot_v);
-    let vc = f16(s.view_cosine);
-    let a2 = f16(s.a2);
-    let lambda_v = f16(s.lambda_v);
+    let s16 = surface16(s);
     var sums = Sums(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
     for (var b = 0u; b < 4u; b++) {
         let l = lights[b * 256u + lane];
@@ -223,7 +193,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         wr[lane] = radiance[b * 256u + lane];
         workgroupBarrier();
         for (var i = 0u; i < 256u; i += 2u) {
-            shade_all(wh[i], wh[i + 1u], wr[i].xyz, wr[i + 1u].xyz, ph, nh, vh, nv, vc, a2, lambda_v, &sums);
+            shade_all(wh[i], wh[i + 1u], wr[i].xyz, wr[i + 1u].xyz, ph, nh, vh, s16, &sums);
         }
         workgroupBarrier();
     }
@@ -416,7 +386,7 @@ fn main() {
 
     let mut kernels = vec![
         ("count", with_main(COUNT_MAIN, "shade_count")),
-        ("f32", format!("{COMMON}{F32_MAIN}")),
+        ("f32", with_main(F32_MAIN, "shade32")),
         ("f32 no brdf", with_main(NO_BRDF_MAIN, "shade_geo")),
         ("f32 range only", with_main(RANGE_MAIN, "shade_range")),
         (
@@ -429,8 +399,14 @@ fn main() {
         ),
     ];
     if f16 {
-        kernels.push(("f16 brdf", format!("enable f16;\n{COMMON}{F16_MAIN}")));
-        kernels.push(("f16 all", format!("enable f16;\n{COMMON}{F16_ALL_MAIN}")));
+        kernels.push((
+            "f16 brdf",
+            format!("enable f16;\n{COMMON}{F16_BRDF}{F16_MAIN}"),
+        ));
+        kernels.push((
+            "f16 all",
+            format!("enable f16;\n{COMMON}{F16_BRDF}{F16_ALL_MAIN}"),
+        ));
     }
     let pixels = f64::from(width * height);
     let mut reference: Option<Vec<f32>> = None;
