@@ -139,6 +139,7 @@ pub fn register(r: &mut Registry) {
                 pins,
                 loaded: Vec::new(),
                 from: Vec::new(),
+                materials: None,
             }
         }),
     );
@@ -160,6 +161,36 @@ struct GltfNode {
     loaded: Vec<Loaded>,
     /// The Filename slices `loaded` was made from (resolved).
     from: Vec<std::path::PathBuf>,
+    /// The Materials and Material Names outputs for `loaded` at a First
+    /// Material ID, kept while both are unchanged: an animated file then
+    /// gives the same materials every frame, which MaterialBuffer reuses.
+    materials: Option<Materials>,
+}
+
+/// The materials of the loaded files from First Material ID on, and their names.
+struct Materials {
+    first: i64,
+    list: Vec<Arc<Material>>,
+    names: Vec<String>,
+}
+
+impl Materials {
+    /// Ids below `first` hold one shared default; then each file's default
+    /// material and its materials, file after file.
+    fn of(loaded: &[Loaded], first: i64) -> Materials {
+        let default = Arc::new(Material::default_material());
+        let mut list = vec![default; first as usize];
+        let mut names = vec![String::new(); first as usize];
+        for file in loaded {
+            list.push(Arc::new(MaterialData::default().to_material()));
+            names.push(String::new());
+            for m in &file.scene.materials {
+                list.push(Arc::new(m.to_material()));
+                names.push(m.name.clone().unwrap_or_default());
+            }
+        }
+        Materials { first, list, names }
+    }
 }
 
 impl GltfNode {
@@ -195,6 +226,7 @@ impl GltfNode {
         }
         self.loaded = loaded;
         self.from = paths;
+        self.materials = None;
         Ok(())
     }
 }
@@ -217,12 +249,11 @@ impl Node for GltfNode {
         self.load(cx)?;
         let (mut meshes, mut transforms, mut colors, mut ids) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let mut materials: Vec<Arc<Material>> = {
-            // One shared default for the ids below the file's (never mutated).
-            let default = Arc::new(Material::default_material());
-            vec![default; first as usize]
-        };
-        let mut names = vec![String::new(); first as usize];
+        if self.materials.as_ref().is_none_or(|m| m.first != first) {
+            self.materials = Some(Materials::of(&self.loaded, first));
+        }
+        // Each file's materials start at the ids after the files before it.
+        let mut base = first;
         let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
         let (mut views, mut projections) = (Vec::new(), Vec::new());
         let mut settle = false;
@@ -234,13 +265,8 @@ impl Node for GltfNode {
                 deformer,
             } = loaded;
             // This file's default material, then its materials.
-            let base = materials.len() as i64;
-            materials.push(Arc::new(MaterialData::default().to_material()));
-            names.push(String::new());
-            for m in &scene.materials {
-                materials.push(Arc::new(m.to_material()));
-                names.push(m.name.clone().unwrap_or_default());
-            }
+            let file_base = base;
+            base += 1 + scene.materials.len() as i64;
             // Instances, lights and cameras follow their (animated) nodes.
             let animation = usize::try_from(animation).ok();
             let world = scene.node_worlds(animation, time);
@@ -298,15 +324,16 @@ impl Node for GltfNode {
                 }
                 let c = material.map_or([1.0; 4], |m| m.base_color);
                 colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
-                ids.push(base + index.map_or(0, |m| m as i64 + 1));
+                ids.push(file_base + index.map_or(0, |m| m as i64 + 1));
             }
         }
         cx.put_resources(pins.mesh, meshes);
         cx.put(pins.transform, transforms);
         cx.put(pins.base_color, colors);
         cx.put(pins.material_id, ids);
-        cx.put_resources(pins.materials, materials);
-        cx.put(pins.material_names, names);
+        let materials = self.materials.as_ref().expect("made above");
+        cx.put_resources(pins.materials, materials.list.clone());
+        cx.put(pins.material_names, materials.names.clone());
         cx.put_resources(pins.point_lights, vec![Arc::new(points)]);
         cx.put_resources(pins.spot_lights, vec![Arc::new(spots)]);
         cx.put_resources(pins.sun_lights, vec![Arc::new(suns)]);

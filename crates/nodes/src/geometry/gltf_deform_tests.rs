@@ -153,3 +153,47 @@ fn a_skinned_mesh_keeps_its_vertex_colours_and_second_uv_set() {
         }
     }
 }
+
+/// An animated file evaluates every frame with the same materials: a
+/// MaterialBuffer behind it gives back the world it made, not a new upload
+/// every frame; a new First Material ID makes a new one.
+#[test]
+fn a_material_buffer_behind_an_animated_file_keeps_its_world() {
+    use spreadlight_graph::{NodeId, Spread};
+    use spreadlight_render::material::MaterialWorld;
+    use std::sync::Arc;
+
+    let dir = tempfile::tempdir().unwrap();
+    let mut patch = bar_patch(dir.path(), true);
+    patch.add(NodeDoc::new(6, "MaterialBuffer"));
+    patch.add(NodeDoc::new(7, "Probe"));
+    patch.link(2, "Materials", 6, "Materials");
+    patch.link(6, "Material World", 7, "Input");
+    let mut run = Run::new(&patch);
+    let world = |run: &Run| match run
+        .runtime
+        .output(NodeId(6), "Material World")
+        .map(|s| s.as_ref())
+    {
+        Some(Spread::Resource(_, handles)) => handles[0]
+            .downcast_arc::<MaterialWorld>()
+            .expect("a material world"),
+        other => panic!("{other:?}"),
+    };
+    run.frame(0, 2);
+    let first = world(&run);
+    for frame in 1..4 {
+        assert_eq!(
+            run.frame(frame, 2).0,
+            NodeRun::Evaluated,
+            "the file poses each frame"
+        );
+        assert!(Arc::ptr_eq(&first, &world(&run)), "frame {frame}");
+    }
+    let mut moved = patch.clone();
+    moved.nodes[0] = moved.nodes[0].clone().with("First Material ID", vec![3i64]);
+    let problems = run.runtime.load(&moved);
+    assert!(problems.is_empty(), "{problems:?}");
+    run.frame(4, 2);
+    assert!(!Arc::ptr_eq(&first, &world(&run)), "new ids, a new world");
+}
