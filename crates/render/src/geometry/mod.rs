@@ -76,6 +76,9 @@ pub struct GeometryStats {
     /// times are taken, after the frame, so that no dispatch waits for the
     /// GPU as its node evaluates (a wait `bench` would count as CPU time).
     pending: Mutex<Vec<(Timer, Work)>>,
+    /// Timers read and free again: a timed frame makes its query sets and
+    /// buffers once, not every dispatch.
+    free: Mutex<Vec<Timer>>,
     /// GPU nanoseconds of timed dispatches not yet taken.
     gpu_ns: AtomicU64,
     /// Skinning's share of the above, kept apart so benchmarks can name it.
@@ -115,13 +118,19 @@ impl GeometryStats {
     /// Reads the timestamps of every timed dispatch not read yet.
     fn settle(&self, gpu: &GpuContext) -> Result<(), RenderError> {
         let pending = std::mem::take(&mut *self.pending.lock().unwrap_or_else(|e| e.into_inner()));
+        let mut read = Vec::with_capacity(pending.len());
         for (timer, work) in pending {
             let ns = timer.read_ns(gpu)?;
             self.gpu_ns.fetch_add(ns, Ordering::Relaxed);
             if work == Work::Skinning {
                 self.skinning_ns.fetch_add(ns, Ordering::Relaxed);
             }
+            read.push(timer);
         }
+        self.free
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .extend(read);
         Ok(())
     }
 
@@ -338,8 +347,10 @@ pub(crate) fn dispatch_as(
     let gpu = &renderer.gpu;
     let device = &gpu.device;
     let stats = GeometryStats::of(renderer);
-    let timer =
-        (stats.timing.load(Ordering::Relaxed) && gpu.has_timestamps()).then(|| Timer::new(device));
+    let timer = (stats.timing.load(Ordering::Relaxed) && gpu.has_timestamps()).then(|| {
+        let free = stats.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        free.unwrap_or_else(|| Timer::new(device))
+    });
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let recorded = (|| {
         let mut shaders = renderer.shaders();
