@@ -107,15 +107,20 @@ fn a_made_mesh_gets_its_first_uv_set_and_white_as_extras() {
     }
 }
 
+/// A box spherized (#2) by an LFO's Amount: it runs every frame.
+fn spherize_by_lfo() -> Patch {
+    let mut patch = box_into(NodeDoc::new(2, "Spherize"));
+    patch.add(NodeDoc::new(4, "LFO").with("Period", vec![0.5f32]));
+    patch.link(4, "Output", 2, "Amount");
+    patch
+}
+
 /// With timing on (bench), a dispatch does not wait for its timestamps as
 /// its node evaluates: they are read when the times are taken, once each,
 /// and the next frame's dispatch times itself with the timer read before.
 #[test]
 fn timed_dispatches_are_read_when_their_times_are_taken() {
-    let mut patch = box_into(NodeDoc::new(2, "Spherize"));
-    patch.add(NodeDoc::new(4, "LFO").with("Period", vec![0.5f32]));
-    patch.link(4, "Output", 2, "Amount");
-    let mut run = Run::new(&patch);
+    let mut run = Run::new(&spherize_by_lfo());
     let stats = GeometryStats::of(&run.renderer);
     stats.set_timing(true);
     for frame in 0..3 {
@@ -133,10 +138,7 @@ fn timed_dispatches_are_read_when_their_times_are_taken() {
 
 #[test]
 fn an_animated_pin_reruns_every_frame_with_last_frames_positions() {
-    let mut patch = box_into(NodeDoc::new(2, "Spherize"));
-    patch.add(NodeDoc::new(4, "LFO").with("Period", vec![0.5f32]));
-    patch.link(4, "Output", 2, "Amount");
-    let mut run = Run::new(&patch);
+    let mut run = Run::new(&spherize_by_lfo());
     run.frame(0, 2);
     let (before, _) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
     assert_eq!(run.frame(1, 2), (NodeRun::Evaluated, 1));
