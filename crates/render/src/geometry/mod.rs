@@ -115,6 +115,11 @@ impl GeometryStats {
         self.timing.store(on, Ordering::Relaxed);
     }
 
+    /// Whether dispatches are timed ([`GeometryStats::set_timing`]).
+    pub fn timing(&self) -> bool {
+        self.timing.load(Ordering::Relaxed)
+    }
+
     /// Reads the timestamps of every timed dispatch not read yet.
     fn settle(&self, gpu: &GpuContext) -> Result<(), RenderError> {
         let pending = std::mem::take(&mut *self.pending.lock().unwrap_or_else(|e| e.into_inner()));
