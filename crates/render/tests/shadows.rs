@@ -29,6 +29,24 @@ fn casters(renderer: &Renderer, ball: Vec3) -> Vec<Arc<Layer>> {
 
 /// Looking down at the floor's centre from above and in front, past the
 /// ball's side: the image's centre is the floor under the ball.
+/// A layer of one grey instance of `mesh`, still at `transform`.
+fn one_instance(
+    mesh: Arc<spreadlight_render::mesh_arena::GpuMesh>,
+    transform: glam::Mat4,
+) -> Arc<Layer> {
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
+    Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![InstanceInput {
+            transform,
+            previous_transform: transform,
+            color: [0.8; 4],
+            material_id: 0,
+            object_id: 0,
+        }],
+    }]))
+}
+
 fn camera() -> CameraInput {
     CameraInput {
         view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 8.0, 6.0), Vec3::ZERO, Vec3::Y),
@@ -816,7 +834,6 @@ fn a_ball_resting_on_the_floor_keeps_its_contact_shadow() {
 
 #[test]
 fn a_one_sided_plane_facing_away_from_the_light_still_casts_on_either_rasterizer() {
-    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
     use spreadlight_render::mesh::primitives::{GridParams, grid};
     let renderer = test_renderer();
     let mut layers = casters(&renderer, Vec3::new(0.0, -50.0, 0.0));
@@ -834,17 +851,7 @@ fn a_one_sided_plane_facing_away_from_the_light_still_casts_on_either_rasterizer
         .expect("upload");
     let t = glam::Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0))
         * glam::Mat4::from_rotation_x(std::f32::consts::PI);
-    let batch = DrawBatch {
-        mesh: roof,
-        instances: vec![InstanceInput {
-            transform: t,
-            previous_transform: t,
-            color: [0.8; 4],
-            material_id: 0,
-            object_id: 0,
-        }],
-    };
-    layers.push(Arc::new(Layer::plain(vec![batch])));
+    layers.push(one_instance(roof, t));
     let spot = SpotLight {
         shadow: Some(0),
         ..SpotLight::cone(Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.5, 0.7)
@@ -947,18 +954,7 @@ impl Ball {
 
     /// This frame's layer: the ball at `at`.
     fn at(&self, at: Vec3) -> Arc<Layer> {
-        use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
-        let t = glam::Mat4::from_translation(at);
-        Arc::new(Layer::plain(vec![DrawBatch {
-            mesh: self.0.clone(),
-            instances: vec![InstanceInput {
-                transform: t,
-                previous_transform: t,
-                color: [0.8; 4],
-                material_id: 0,
-                object_id: 0,
-            }],
-        }]))
+        one_instance(self.0.clone(), glam::Mat4::from_translation(at))
     }
 }
 
