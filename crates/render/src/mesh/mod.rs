@@ -92,12 +92,25 @@ impl Aabb {
 
     /// The box around this box's corners after an affine transform (may be
     /// looser than the box of the transformed mesh, never tighter).
+    ///
+    /// Arvo's form: per column the smaller and the larger of its products
+    /// with the box's two ends, summed in `transform_point3`'s order. Rounded
+    /// addition is monotonic, so this is the box of the eight transformed
+    /// corners bit for bit, at a third of the work (a skinned herd bounds
+    /// thousands of joint boxes a frame).
     pub fn transformed(self, transform: Mat4) -> Aabb {
-        Aabb::from_points(
-            self.corners()
-                .into_iter()
-                .map(|c| transform.transform_point3(c)),
-        )
+        let ends = |axis: glam::Vec4, lo: f32, hi: f32| {
+            let (a, b) = (axis.truncate() * lo, axis.truncate() * hi);
+            (a.min(b), a.max(b))
+        };
+        let (x_min, x_max) = ends(transform.x_axis, self.min.x, self.max.x);
+        let (y_min, y_max) = ends(transform.y_axis, self.min.y, self.max.y);
+        let (z_min, z_max) = ends(transform.z_axis, self.min.z, self.max.z);
+        let w = transform.w_axis.truncate();
+        Aabb {
+            min: w + (z_min + (y_min + x_min)),
+            max: w + (z_max + (y_max + x_max)),
+        }
     }
 
     pub fn is_finite(self) -> bool {
@@ -321,6 +334,30 @@ mod tests {
             vec![0, 1, 2, 0, 2, 3],
         )
         .unwrap()
+    }
+
+    #[test]
+    fn a_transformed_box_is_the_box_of_its_transformed_corners_bit_for_bit() {
+        // Rotations, negative and uneven scales, shears and far translations:
+        // whatever the affine transform, the same bits as the eight corners.
+        let mut seed = 0x9E37_79B9_u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        for _ in 0..2_000 {
+            let mut m = Mat4::from_scale_rotation_translation(
+                Vec3::new(next() * 3.0, next() * 0.01, next() * 300.0),
+                glam::Quat::from_euler(glam::EulerRot::XYZ, next() * 4.0, next() * 4.0, next()),
+                Vec3::new(next() * 1e4, next(), next() * 1e-3),
+            );
+            m.y_axis.x += next();
+            let a = Vec3::new(next(), next() * 50.0, next() * 1e-4);
+            let b = a + Vec3::new(next().abs(), next().abs() * 7.0, next().abs() * 1e5);
+            let aabb = Aabb { min: a, max: b };
+            let corners = Aabb::from_points(aabb.corners().map(|c| m.transform_point3(c)));
+            assert_eq!(aabb.transformed(m), corners, "{m:?} {aabb:?}");
+        }
     }
 
     #[test]
