@@ -5,7 +5,6 @@
 //! evaluation next frame, which writes the same pose over itself so the
 //! velocity settles to zero; after that an unchanged pose runs nothing.
 
-use std::hash::{DefaultHasher, Hash, Hasher};
 use std::sync::Arc;
 
 use glam::Mat4;
@@ -25,8 +24,8 @@ pub(super) struct Deformer {
     /// Per instance: where its deformed mesh is drawn at the latest pose
     /// (a morph-only instance moves with its node without deforming anew).
     transforms: Vec<Mat4>,
-    /// A signature of the pose `last` shows.
-    shown: Option<u64>,
+    /// Per instance: the pose `last` shows (`None` for rigid instances).
+    shown: Option<Vec<Option<DeformPose>>>,
     /// `last` was written over a different pose: its previous positions still move.
     moving: bool,
 }
@@ -82,8 +81,14 @@ impl Deformer {
                 self.transforms[k] = pose.transform;
             }
         }
-        let signature = signature(&poses);
-        if self.shown == Some(signature) && !self.moving {
+        let same = self.shown.as_deref().is_some_and(|shown| {
+            shown.len() == poses.len()
+                && shown.iter().zip(&poses).all(|(a, b)| match (a, b) {
+                    (Some(a), Some(b)) => a.deforms_as(b),
+                    (a, b) => a.is_none() && b.is_none(),
+                })
+        });
+        if same && !self.moving {
             return Ok(Ran::Nothing);
         }
         let jobs: Vec<DeformJob<'_>> = poses
@@ -108,8 +113,8 @@ impl Deformer {
             }
         }
         // A first run has nothing to move from; a new pose moved from the last.
-        let settle = self.shown.is_some_and(|s| s != signature);
-        self.shown = Some(signature);
+        let settle = self.shown.is_some() && !same;
+        self.shown = Some(poses);
         self.moving = settle;
         Ok(Ran::Deformed { settle })
     }
@@ -118,19 +123,4 @@ impl Deformer {
     pub(super) fn mesh(&self, k: usize) -> Option<(&Arc<GpuMesh>, Mat4)> {
         Some((self.last.get(k)?.as_ref()?, self.transforms[k]))
     }
-}
-
-/// The bits of every pose's joint matrices and weights: equal signatures,
-/// equal deformations.
-fn signature(poses: &[Option<DeformPose>]) -> u64 {
-    let mut h = DefaultHasher::new();
-    for pose in poses.iter().flatten() {
-        for m in &pose.palette {
-            m.to_cols_array().map(f32::to_bits).hash(&mut h);
-        }
-        for w in &pose.weights {
-            w.to_bits().hash(&mut h);
-        }
-    }
-    h.finish()
 }

@@ -130,3 +130,24 @@ pub struct DeformPose {
     /// the node's world transform for morph-only instances.
     pub transform: Mat4,
 }
+
+impl DeformPose {
+    /// Whether `other` deforms the mesh as this pose does: the same joint
+    /// matrices and morph weights, bit for bit (a pose sampled again at an
+    /// unchanged time need not run again; `==` would call NaN unequal).
+    pub fn deforms_as(&self, other: &DeformPose) -> bool {
+        let bits = |m: &Mat4| m.to_cols_array().map(f32::to_bits);
+        self.palette.len() == other.palette.len()
+            && self.weights.len() == other.weights.len()
+            && self
+                .palette
+                .iter()
+                .zip(&other.palette)
+                .all(|(a, b)| bits(a) == bits(b))
+            && self
+                .weights
+                .iter()
+                .zip(&other.weights)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+}
