@@ -26,7 +26,7 @@ const SIZE: (u32, u32) = (64, 48);
 fn deformed(
     renderer: &Renderer,
     scene: &GltfScene,
-    source: &DeformSource,
+    source: &mut DeformSource,
     rest: &GpuMesh,
     time: f32,
     previous: Option<&GpuMesh>,
@@ -51,9 +51,9 @@ fn gpu_skinning_and_morphing_match_the_cpu_reference() {
         .meshes
         .upload(&renderer.gpu, &scene.meshes[0])
         .unwrap();
-    let source = DeformSource::upload(&renderer, &scene.deforms).unwrap();
-    let first = deformed(&renderer, &scene, &source, &rest, 0.4, None);
-    let second = deformed(&renderer, &scene, &source, &rest, 0.55, Some(&first));
+    let mut source = DeformSource::upload(&renderer, &scene.deforms).unwrap();
+    let first = deformed(&renderer, &scene, &mut source, &rest, 0.4, None);
+    let second = deformed(&renderer, &scene, &mut source, &rest, 0.55, Some(&first));
     let (a, _) = read_mesh(&renderer, &first).unwrap();
     let (b, indices) = read_mesh(&renderer, &second).unwrap();
     assert_eq!(indices, scene.meshes[0].indices, "indices are copied");
@@ -114,10 +114,10 @@ fn velocity_is_the_analytic_motion_of_a_bending_bar() {
         .meshes
         .upload(&renderer.gpu, &scene.meshes[0])
         .unwrap();
-    let source = DeformSource::upload(&renderer, &scene.deforms).unwrap();
+    let mut source = DeformSource::upload(&renderer, &scene.deforms).unwrap();
     let (t0, t1) = (0.2f32, 0.35f32);
-    let before = deformed(&renderer, &scene, &source, &rest, t0, None);
-    let now = deformed(&renderer, &scene, &source, &rest, t1, Some(&before));
+    let before = deformed(&renderer, &scene, &mut source, &rest, t0, None);
+    let now = deformed(&renderer, &scene, &mut source, &rest, t1, Some(&before));
     let layer = Layer::new(
         Some(1),
         vec![DrawBatch {

@@ -104,7 +104,7 @@ impl Deformer {
                 })
             })
             .collect();
-        let mut made = deform(renderer, &self.source, &jobs)?.into_iter();
+        let mut made = deform(renderer, &mut self.source, &jobs)?.into_iter();
         for (k, pose) in poses.iter().enumerate() {
             if pose.is_some()
                 && let Some(mesh) = made.next()

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::{Work, dispatch_as, uniform};
+use super::{Work, dispatch_as};
 use crate::error::RenderError;
 use crate::mesh::deform::{Deform, DeformPose, MAX_INFLUENCES, UNSKINNED};
 use crate::mesh_arena::{GpuMesh, MeshLayout};
@@ -74,6 +74,47 @@ pub struct DeformSource {
     influences: wgpu::Buffer,
     targets: wgpu::Buffer,
     slots: Vec<Slot>,
+    /// What each pose writes, kept from pose to pose.
+    pose: PoseBuffers,
+}
+
+/// The buffers a pose writes (the dispatch's counts, its jobs, joint
+/// matrices and morph weights), kept and written in place: a herd posed
+/// every frame makes no buffers, and finds its bind group already made.
+/// The queue orders a write after the dispatches submitted before it, so
+/// the last pose's dispatch still reads the last pose.
+#[derive(Default)]
+struct PoseBuffers {
+    work: Option<wgpu::Buffer>,
+    jobs: Option<wgpu::Buffer>,
+    palette: Option<wgpu::Buffer>,
+    weights: Option<wgpu::Buffer>,
+}
+
+/// `slot`'s buffer holding `bytes` at its start: written in place, or made
+/// anew (twice the size, so a growing herd makes few) when it is too small.
+fn written<'a>(
+    renderer: &Renderer,
+    slot: &'a mut Option<wgpu::Buffer>,
+    label: &str,
+    usage: wgpu::BufferUsages,
+    bytes: &[u8],
+) -> &'a wgpu::Buffer {
+    let size = bytes.len() as u64;
+    if slot.as_ref().is_none_or(|b| b.size() < size) {
+        // A binding may not be empty: at least 64 bytes.
+        *slot = Some(renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: size.next_power_of_two().max(64),
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }));
+    }
+    let buffer = slot.as_ref().expect("made above");
+    if !bytes.is_empty() {
+        renderer.gpu.queue.write_buffer(buffer, 0, bytes);
+    }
+    buffer
 }
 
 impl std::fmt::Debug for DeformSource {
@@ -167,6 +208,7 @@ impl DeformSource {
             ),
             targets: storage(renderer, "morph targets", bytemuck::cast_slice(&targets)),
             slots,
+            pose: PoseBuffers::default(),
         })
     }
 }
@@ -185,7 +227,7 @@ pub struct DeformJob<'a> {
 /// [`super::GeometryStats`]) and returns the new meshes, in job order.
 pub fn deform(
     renderer: &Renderer,
-    source: &DeformSource,
+    source: &mut DeformSource,
     jobs: &[DeformJob<'_>],
 ) -> Result<Vec<Arc<GpuMesh>>, RenderError> {
     if jobs.is_empty() {
@@ -272,14 +314,35 @@ pub fn deform(
     // After every allocation: one may have grown the arena.
     let (vertices, indices, _) = renderer.meshes.buffers();
     let extras = renderer.meshes.extras();
-    let work = uniform(
+    let buffers = &mut source.pose;
+    let work = written(
         renderer,
+        &mut buffers.work,
         "skinning dispatch",
+        wgpu::BufferUsages::UNIFORM,
         bytemuck::cast_slice(&[gpu_jobs.len() as u32, threads, 0, 0]),
     );
-    let jobs_buffer = storage(renderer, "skinning jobs", bytemuck::cast_slice(&gpu_jobs));
-    let palette = storage(renderer, "joint matrices", bytemuck::cast_slice(&palette));
-    let weights = storage(renderer, "morph weights", bytemuck::cast_slice(&weights));
+    let jobs_buffer = written(
+        renderer,
+        &mut buffers.jobs,
+        "skinning jobs",
+        wgpu::BufferUsages::STORAGE,
+        bytemuck::cast_slice(&gpu_jobs),
+    );
+    let palette = written(
+        renderer,
+        &mut buffers.palette,
+        "joint matrices",
+        wgpu::BufferUsages::STORAGE,
+        bytemuck::cast_slice(&palette),
+    );
+    let weights = written(
+        renderer,
+        &mut buffers.weights,
+        "morph weights",
+        wgpu::BufferUsages::STORAGE,
+        bytemuck::cast_slice(&weights),
+    );
     dispatch_as(
         renderer,
         &SkinningKey.key(),
