@@ -6,6 +6,7 @@
 use glam::{Mat4, Quat, Vec3, Vec4};
 use gltf::Document;
 use gltf::animation::{Interpolation, Property};
+use rayon::prelude::*;
 
 use super::{GltfError, GltfScene, Importer};
 
@@ -179,6 +180,9 @@ impl Animation {
     }
 }
 
+/// Channels of an animation sampled on rayon's threads from this many.
+const PARALLEL_CHANNELS: usize = 256;
+
 impl Channel {
     /// The channel's value at `time` (held before the first and after the last keyframe).
     fn sample(&self, time: f32) -> Vec4 {
@@ -269,12 +273,23 @@ impl GltfScene {
         let mut local: Vec<Option<Trs>> = vec![None; graph.rest.len()];
         if let Some(a) = animation.and_then(|a| self.animations.get(a)) {
             let time = a.looped(time);
-            for c in &a.channels {
+            // A herd's thousands of channels (each a search and a slerp) are
+            // sampled on rayon's threads; a few stay on this one, where the
+            // pool's hand-off would cost more than they do.
+            let samples: Vec<Vec4> = if a.channels.len() >= PARALLEL_CHANNELS {
+                a.channels
+                    .par_iter()
+                    .with_min_len(PARALLEL_CHANNELS / 4)
+                    .map(|c| c.sample(time))
+                    .collect()
+            } else {
+                a.channels.iter().map(|c| c.sample(time)).collect()
+            };
+            for (c, v) in a.channels.iter().zip(samples) {
                 let Some(rest) = graph.rest.get(c.node) else {
                     continue;
                 };
                 let trs = local[c.node].get_or_insert(rest.1);
-                let v = c.sample(time);
                 match c.path {
                     Path::Translation => trs.translation = v.truncate(),
                     Path::Rotation => trs.rotation = Quat::from_vec4(v).normalize(),

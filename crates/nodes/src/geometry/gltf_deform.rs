@@ -8,12 +8,16 @@
 use std::sync::Arc;
 
 use glam::Mat4;
-use spreadlight_gltf::GltfScene;
+use rayon::prelude::*;
 use spreadlight_gltf::deform::DeformPose;
+use spreadlight_gltf::{GltfScene, MeshInstance};
 use spreadlight_render::RenderError;
 use spreadlight_render::Renderer;
 use spreadlight_render::geometry::skinning::{DeformJob, DeformSource, deform};
 use spreadlight_render::mesh_arena::GpuMesh;
+
+/// Instances posed on rayon's threads from this many.
+const PARALLEL_INSTANCES: usize = 32;
 
 /// One file's deformed instances and what they showed last.
 pub(super) struct Deformer {
@@ -67,15 +71,23 @@ impl Deformer {
         world: &[Mat4],
         weights: &[Option<Vec<f32>>],
     ) -> Result<Ran, RenderError> {
-        let poses: Vec<Option<DeformPose>> = scene
-            .instances
-            .iter()
-            .map(|i| {
-                scene
-                    .is_deformed(i)
-                    .then(|| scene.deform_pose(i, world, weights))
-            })
-            .collect();
+        let pose = |i: &MeshInstance| {
+            scene
+                .is_deformed(i)
+                .then(|| scene.deform_pose(i, world, weights))
+        };
+        // A herd's joint matrices and posed bounds are made on rayon's
+        // threads; a few instances stay on this one.
+        let poses: Vec<Option<DeformPose>> = if scene.instances.len() >= PARALLEL_INSTANCES {
+            scene
+                .instances
+                .par_iter()
+                .with_min_len(PARALLEL_INSTANCES / 4)
+                .map(pose)
+                .collect()
+        } else {
+            scene.instances.iter().map(pose).collect()
+        };
         for (k, pose) in poses.iter().enumerate() {
             if let Some(pose) = pose {
                 self.transforms[k] = pose.transform;
