@@ -30,6 +30,7 @@ use anyhow::{Context, bail};
 use spreadlight_graph::{Spread, format};
 
 use crate::cold_start::ColdStart;
+use crate::node_cpu::NodeCpu;
 use crate::pin_arg::PinArg;
 use crate::session::{Session, parse_size};
 
@@ -173,9 +174,9 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
     Ok(())
 }
 
-/// The passes as a map of name to median (docs/bench/scene.md's `passes`), a
-/// name that repeats (the three SSSS passes of one node) numbered from its
-/// second time on, so no pass is lost.
+/// The costliest nodes `bench` lists by their own CPU.
+const NODES_SHOWN: usize = 6;
+
 /// The effects with a Resolution pin and the counter each adds per node
 /// that ran at half resolution.
 const HALF_COUNTERS: [(&str, &str); 4] = [
@@ -185,6 +186,9 @@ const HALF_COUNTERS: [(&str, &str); 4] = [
     ("DOF", spreadlight_render::post::dof::HALF_RESOLUTION),
 ];
 
+/// The passes as a map of name to median (docs/bench/scene.md's `passes`), a
+/// name that repeats (the three SSSS passes of one node) numbered from its
+/// second time on, so no pass is lost.
 fn unique_names(passes: &[PassFigure]) -> serde_json::Map<String, serde_json::Value> {
     let mut seen = std::collections::HashMap::<&str, u32>::new();
     let mut map = serde_json::Map::new();
@@ -425,6 +429,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             let _ = session.runtime.load(&turned);
         }
     };
+    let mut node_cpu = NodeCpu::default();
     for frame in 0..total {
         turn(&mut session, frame);
         session.runtime.invalidate_sinks();
@@ -466,6 +471,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         // Which effects ran at half resolution (the last timed frame's).
         half_effects = HALF_COUNTERS.map(|(effect, counter)| (effect, report.counter(counter)));
         series.eval.push((cpu - timings.record_ms).max(0.0));
+        node_cpu.push(session.runtime.stats());
         if let Some(span) = timings.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
             if let Some(sum) = timings.gpu_ms {
@@ -596,6 +602,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "pass_order": passes,
             "cold_start": cold_start.map(|c| c.json()),
         });
+        // The costliest nodes' own CPU (node_cpu.rs): where evaluation goes.
+        let nodes = serde_json::json!({ "node_cpu_ms_median": node_cpu.costliest(NODES_SHOWN) });
         // Where frames were submitted, and the figures across threads (a
         // second object: one `json!` of them all passes the macro's recursion limit).
         let threads = serde_json::json!({
@@ -612,8 +620,12 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "wall_cpu_total_ms_median": wall_threads.2,
             "wall_cpu_critical_ms_median": wall_threads.3,
         });
-        if let (Some(line), serde_json::Value::Object(threads)) = (line.as_object_mut(), threads) {
-            line.extend(threads);
+        if let Some(line) = line.as_object_mut() {
+            for part in [threads, nodes] {
+                if let serde_json::Value::Object(part) = part {
+                    line.extend(part);
+                }
+            }
         }
         println!("{line}");
     } else {
@@ -641,6 +653,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("  GPU idle between passes {}", show(idle));
         println!("  CPU frame              {}", show(cpu));
         println!("    evaluating the patch {}", show(eval));
+        for n in node_cpu.costliest(NODES_SHOWN) {
+            let name = format!("{} #{}", n.type_name, n.node);
+            println!("      {name:<38} {:.3} ms", n.median_ms);
+        }
         println!("    recording the frame  {}", show(record));
         println!("      of which finishing and submitting {}", show(submit));
         if submission == Submission::Thread {

@@ -10,6 +10,7 @@ mod cold_start;
 mod edit;
 mod eval;
 mod fmt;
+mod node_cpu;
 mod nodes;
 mod orbit;
 mod pin_arg;

@@ -796,6 +796,40 @@ fn stats_json_shows_passes_and_culling() {
     assert!(json["runtime"]["evaluated"].as_u64().expect("count") > 0);
 }
 
+/// An animated patch's nodes that run every frame are listed by their own
+/// CPU, the costliest first.
+#[test]
+fn bench_lists_the_nodes_that_cost_cpu() {
+    let o = spreadlight(&[
+        "bench",
+        "patches/gbuffer-spheres.ron",
+        "--size",
+        "32x18",
+        "--warmup",
+        "1",
+        "--frames",
+        "3",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
+    let nodes = json["node_cpu_ms_median"]
+        .as_array()
+        .expect("node_cpu_ms_median");
+    let types: Vec<&str> = nodes.iter().filter_map(|n| n["type"].as_str()).collect();
+    // The LFO turns the camera: what it feeds runs every frame.
+    for moved in ["LFO", "Camera", "MRE"] {
+        assert!(types.contains(&moved), "{moved} in {types:?}");
+    }
+    assert!(!types.contains(&"Output"), "{types:?}");
+    assert!(nodes.iter().all(|n| n["evaluated"] == 3), "{nodes:?}");
+    let medians: Vec<f64> = nodes
+        .iter()
+        .filter_map(|n| n["median_ms"].as_f64())
+        .collect();
+    assert!(medians.is_sorted_by(|a, b| a >= b), "{medians:?}");
+}
+
 #[test]
 fn bench_prints_one_json_line_with_the_adapter() {
     let o = spreadlight(&[
@@ -828,6 +862,9 @@ fn bench_prints_one_json_line_with_the_adapter() {
     );
     assert!(json["cpu_eval_ms_median"].as_f64().is_some());
     assert!(json["cpu_record_ms_median"].as_f64().is_some());
+    // A still patch: every node but the Output is reused, and no node's own
+    // CPU is listed (the Output's is the recording).
+    assert_eq!(json["node_cpu_ms_median"], serde_json::json!([]));
     // Each pass's recording time is part of the frame's, and so is the submission after them.
     let record = json["cpu_record_ms_median"].as_f64().unwrap_or(0.0);
     let submit = json["cpu_submit_ms_median"]
