@@ -180,7 +180,7 @@ impl Animation {
     }
 }
 
-/// Channels of an animation sampled on rayon's threads from this many.
+/// Channels of an animation sampled on the posing threads from this many.
 const PARALLEL_CHANNELS: usize = 256;
 
 impl Channel {
@@ -274,14 +274,16 @@ impl GltfScene {
         if let Some(a) = animation.and_then(|a| self.animations.get(a)) {
             let time = a.looped(time);
             // A herd's thousands of channels (each a search and a slerp) are
-            // sampled on rayon's threads; a few stay on this one, where the
+            // sampled on the posing threads (pool.rs); a few stay on this one, where the
             // pool's hand-off would cost more than they do.
             let samples: Vec<Vec4> = if a.channels.len() >= PARALLEL_CHANNELS {
-                a.channels
-                    .par_iter()
-                    .with_min_len(PARALLEL_CHANNELS / 4)
-                    .map(|c| c.sample(time))
-                    .collect()
+                crate::pool::posing(|| {
+                    a.channels
+                        .par_iter()
+                        .with_min_len(PARALLEL_CHANNELS / 4)
+                        .map(|c| c.sample(time))
+                        .collect()
+                })
             } else {
                 a.channels.iter().map(|c| c.sample(time)).collect()
             };

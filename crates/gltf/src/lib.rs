@@ -58,6 +58,7 @@ mod material_extensions;
 mod material_extensions_tests;
 pub mod models;
 pub mod morph;
+pub mod pool;
 mod primitive;
 pub mod reference;
 #[cfg(test)]

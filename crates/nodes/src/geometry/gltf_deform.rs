@@ -16,7 +16,7 @@ use spreadlight_render::Renderer;
 use spreadlight_render::geometry::skinning::{DeformJob, DeformSource, deform};
 use spreadlight_render::mesh_arena::GpuMesh;
 
-/// Instances posed on rayon's threads from this many.
+/// Instances posed on the posing threads from this many.
 const PARALLEL_INSTANCES: usize = 32;
 
 /// One file's deformed instances and what they showed last.
@@ -76,15 +76,17 @@ impl Deformer {
                 .is_deformed(i)
                 .then(|| scene.deform_pose(i, world, weights))
         };
-        // A herd's joint matrices and posed bounds are made on rayon's
-        // threads; a few instances stay on this one.
+        // A herd's joint matrices and posed bounds are made on the posing
+        // threads (spreadlight_gltf::pool); a few instances stay on this one.
         let poses: Vec<Option<DeformPose>> = if scene.instances.len() >= PARALLEL_INSTANCES {
-            scene
-                .instances
-                .par_iter()
-                .with_min_len(PARALLEL_INSTANCES / 4)
-                .map(pose)
-                .collect()
+            spreadlight_gltf::pool::posing(|| {
+                scene
+                    .instances
+                    .par_iter()
+                    .with_min_len(PARALLEL_INSTANCES / 4)
+                    .map(pose)
+                    .collect()
+            })
         } else {
             scene.instances.iter().map(pose).collect()
         };
