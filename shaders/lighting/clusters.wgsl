@@ -48,6 +48,14 @@ struct Grid {
 // Non-zero where a transparent fragment lies (post/transparency.wgsl's `mark_froxels`).
 @group(0) @binding(8) var<storage, read> occupied: array<u32>;
 #endif
+#ifdef MERGED
+// Light Merge (crates/render/src/lighting/light_merge.rs): per light, the
+// world centroid of its merged cube (xyz) and the merge distance (w): w > 0
+// a member, listed only in froxels whose box lies nearer than w to the
+// centroid; w < 0 the cube's merged light, listed only in the others; 0 a
+// light listed wherever it reaches.
+@group(0) @binding(9) var<storage, read> bands: array<vec4<f32>>;
+#endif
 
 fn slice_of(depth: f32) -> i32 {
     return i32(floor(log(max(depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)));
@@ -145,10 +153,8 @@ fn froxel_at(first: vec3<i32>, extent: vec3<i32>, k: u32) -> vec3<i32> {
     return first + vec3<i32>(i32(x), i32(y), i32(layer));
 }
 
-// Whether a light's sphere touches froxel (x, y, z): the sphere against the
-// froxel's view-space bounding box. Cuts the corners of the screen-space
-// box, which for big lights is most of it.
-fn touches(light: vec4<f32>, x: i32, y: i32, z: i32) -> bool {
+// Froxel (x, y, z)'s view-space bounding box: its low and high corners.
+fn froxel_box(x: i32, y: i32, z: i32) -> array<vec3<f32>, 2> {
     let slice = u32(clamp(z, 0, i32(MAX_SLICES) - 1));
     let d0 = slice_depths[slice];
     let d1 = slice_depths[slice + 1u];
@@ -164,9 +170,46 @@ fn touches(light: vec4<f32>, x: i32, y: i32, z: i32) -> bool {
     let ys = vec4<f32>(ndc_y.x * d0, ndc_y.x * d1, ndc_y.y * d0, ndc_y.y * d1) * sy;
     let lo = vec3<f32>(min(min(xs.x, xs.y), min(xs.z, xs.w)), min(min(ys.x, ys.y), min(ys.z, ys.w)), -d1);
     let hi = vec3<f32>(max(max(xs.x, xs.y), max(xs.z, xs.w)), max(max(ys.x, ys.y), max(ys.z, ys.w)), -d0);
-    let nearest = clamp(light.xyz, lo, hi);
-    let offset = light.xyz - nearest;
+    return array<vec3<f32>, 2>(lo, hi);
+}
+
+// Whether a light's sphere touches a froxel: the sphere against the froxel's
+// view-space bounding box (froxel_box). Cuts the corners of the
+// screen-space box, which for big lights is most of it.
+fn touches(light: vec4<f32>, froxel: array<vec3<f32>, 2>) -> bool {
+    let offset = light.xyz - clamp(light.xyz, froxel[0], froxel[1]);
     return dot(offset, offset) <= light.w * light.w;
+}
+
+// Light `index`'s band (MERGED) with its centroid moved to view space; a
+// band of 0 (every light without MERGED) lists the light wherever it reaches.
+fn band_of(index: u32) -> vec4<f32> {
+#ifdef MERGED
+    let band = bands[index];
+    if (band.w != 0.0) {
+        return vec4<f32>((camera.view * vec4<f32>(band.xyz, 1.0)).xyz, band.w);
+    }
+#endif
+    return vec4<f32>(0.0);
+}
+
+// Whether a froxel lies on the light's side of its band: a member's froxels
+// are those nearer than the distance to the centroid, the merged light's the
+// rest. One comparison for both, so the two sides never overlap nor leave a gap.
+fn in_band(band: vec4<f32>, froxel: array<vec3<f32>, 2>) -> bool {
+    if (band.w == 0.0) {
+        return true;
+    }
+    let offset = band.xyz - clamp(band.xyz, froxel[0], froxel[1]);
+    let near = dot(offset, offset) < band.w * band.w;
+    return near == (band.w > 0.0);
+}
+
+// Whether froxel `f` lists the light: its sphere touches the froxel's box,
+// on the light's side of its band.
+fn lists(light: vec4<f32>, band: vec4<f32>, f: vec3<i32>) -> bool {
+    let froxel = froxel_box(f.x, f.y, f.z);
+    return touches(light, froxel) && in_band(band, froxel);
 }
 
 fn cluster_index(x: i32, y: i32, z: i32) -> u32 {
@@ -219,12 +262,13 @@ fn count(
         return;
     }
     let light = view_lights[index];
+    let band = band_of(index);
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
     for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
-        if (wanted(f) && touches(light, f.x, f.y, f.z)) {
+        if (wanted(f) && lists(light, band, f)) {
             atomicAdd(&counts[cluster_index(f.x, f.y, f.z)], 1u);
         }
     }
@@ -295,12 +339,13 @@ fn fill(
     }
     let capacity = atomicLoad(&totals[1]);
     let light = view_lights[index];
+    let band = band_of(index);
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
     for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
-        if (!wanted(f) || !touches(light, f.x, f.y, f.z)) {
+        if (!wanted(f) || !lists(light, band, f)) {
             continue;
         }
         let c = cluster_index(f.x, f.y, f.z);

@@ -43,7 +43,10 @@ pub fn register(r: &mut Registry) {
              FakeSSS with a colour and a strength above 0, and is empty otherwise. Shadows: the ShadowMap node of the same light type; each light whose \
              AddLight has a Shadow Slice is shadowed by that slice. Light Cutoff (0: off, the exact image) trades accuracy for \
              speed with many lights: each light reaches only as far as its illuminance (intensity over distance squared, its \
-             brightest channel) stays above the cutoff, fading to 0 there, so fewer lights reach each pixel.",
+             brightest channel) stays above the cutoff, fading to 0 there, so fewer lights reach each pixel. Light Merge (0: off, the exact \
+             image) is a distance: point lights are binned into cubes half of it across, and a froxel at least that far from a cube's \
+             centroid shades the cube's lights as one (their sum at their centroid), nearer froxels one by one; lights with a shadow stay \
+             apart, and the Naive walk does not merge.",
         )
         .with_pins(|p| {
             // Not post's pin helpers: Transparency (post) imports this file's LIGHT_LOOPS.
@@ -54,6 +57,7 @@ pub fn register(r: &mut Registry) {
             let light_loop = p.input_choice("Light Loop", &LIGHT_LOOPS, LightLoop::Auto);
             let energy = p.input("Energy Compensation", true);
             let cutoff_pin = p.input("Light Cutoff", 0.0f32);
+            let merge_pin = p.input("Light Merge", 0.0f32);
             let material_world = p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
             let shadows_in = p.input_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows);
             let texture_output = |p: &mut spreadlight_graph::Pins<'_>, name: &'static str| {
@@ -67,6 +71,10 @@ pub fn register(r: &mut Registry) {
                 let cutoff = cx.first(cutoff_pin, 0.0f32)?;
                 if !(cutoff.is_finite() && cutoff >= 0.0) {
                     return Err(cx.error(cutoff_pin, format!("is {cutoff}: a light cutoff is an illuminance of 0 (off) or more")));
+                }
+                let merge = cx.first(merge_pin, 0.0f32)?;
+                if !(merge.is_finite() && merge >= 0.0) {
+                    return Err(cx.error(merge_pin, format!("is {merge}: a light merge is a distance of 0 (off) or more")));
                 }
                 let renderer = renderer(cx)?;
                 let gbuffer = cx.first_resource(g_buffer)?.ok_or_else(|| cx.error(g_buffer, "no G-buffer connected"))?;
@@ -94,6 +102,7 @@ pub fn register(r: &mut Registry) {
                 }
                 let recipe = CookTorrance::with_shadows(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces, shadows);
                 let recipe = CookTorrance::with_light_cutoff(recipe, cutoff);
+                let recipe = CookTorrance::with_light_merge(recipe, &renderer, merge);
                 cx.put_resources(diffuse, vec![std::sync::Arc::new(recipe.diffuse_texture())]);
                 cx.put_resources(specular, vec![std::sync::Arc::new(recipe.specular_texture())]);
                 // Only when some material scatters (FakeSSS above 0): otherwise there is no subsurface term to pass on.

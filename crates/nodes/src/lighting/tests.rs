@@ -80,6 +80,18 @@ fn a_light_cutoff_that_is_nan_infinite_or_negative_is_an_error_on_its_pin() {
 }
 
 #[test]
+fn a_light_merge_that_is_nan_infinite_or_negative_is_an_error_on_its_pin() {
+    for bad in [f32::NAN, f32::INFINITY, -1.0] {
+        let e = eval_err(
+            "CookTorrance",
+            &[("Light Merge", floats(&[bad]))],
+            "Light Merge",
+        );
+        assert!(e.to_string().contains("light merge"), "{e}");
+    }
+}
+
+#[test]
 fn a_nan_on_a_light_pin_is_an_error_on_the_node_never_a_light() {
     let e = eval_err(
         "AddLight (Point)",

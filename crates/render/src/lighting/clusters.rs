@@ -225,11 +225,12 @@ const ASSIGNMENT_STEPS: [&str; 4] = ["transform", "count", "scan", "fill"];
 pub(crate) fn announce_assignment(
     pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
     occupied: bool,
+    merged: bool,
 ) {
     if !pass.graph().gathers_pipelines() {
         return;
     }
-    let key = ClustersKey { occupied }.key();
+    let key = ClustersKey { occupied, merged }.key();
     for step in ASSIGNMENT_STEPS {
         pass.will_dispatch(&key, step);
     }
@@ -257,6 +258,7 @@ pub(crate) fn assign_lights(
     );
     let key = ClustersKey {
         occupied: occupied.is_some(),
+        merged: lights.bands().is_some(),
     }
     .key();
     // Only the clustered walk runs this pass; the naive loop moves its
@@ -273,7 +275,8 @@ pub(crate) fn assign_lights(
             .buffer("offsets", &b.offsets)
             .buffer("indices", &b.indices)
             .buffer("totals", &b.totals)
-            .buffer_opt("occupied", occupied);
+            .buffer_opt("occupied", occupied)
+            .buffer_opt("bands", lights.bands());
         let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
         // transform: a thread per light; count and fill: workgroups per
         // light (x up to 65,535, then y; z splits a light's froxels);

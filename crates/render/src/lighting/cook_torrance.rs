@@ -278,6 +278,29 @@ impl CookTorrance {
         self.light_cutoff
     }
 
+    /// This recipe with a light merge distance (`light_merge.rs`): point
+    /// lights whose cube's centroid lies at least `distance` from a froxel
+    /// are shaded there as one light per cube, the near ones one by one.
+    /// Fewer evaluations per pixel, each far cube approximated. 0, NaN,
+    /// infinity or less than 0: no merging, the exact image; so too for the
+    /// naive walk (it reads every light, and would count a cube twice) and
+    /// for spots and suns. The merge is kept under the node while the lights
+    /// and the distance stay. Call it on the recipe just made.
+    pub fn with_light_merge(mut made: Arc<Self>, renderer: &Renderer, distance: f32) -> Arc<Self> {
+        let this = Arc::get_mut(&mut made).expect("a recipe just made is not shared");
+        if this.walk.uses_froxels()
+            && let Some(merged) = this.lights.merged(renderer, this.owner, distance)
+        {
+            this.lights = merged;
+        }
+        made
+    }
+
+    /// Whether its lights are merged ([`CookTorrance::with_light_merge`]).
+    pub fn merges_lights(&self) -> bool {
+        self.lights.bands().is_some()
+    }
+
     pub fn diffuse_texture(self: &Arc<Self>) -> TextureRef {
         TextureRef {
             recipe: self.clone(),
@@ -630,7 +653,7 @@ impl CookTorrance {
         // naive shade against 7.6 before other passes, session 10.)
         if self.walk.uses_froxels() {
             let mut pass = fg.pass(self.label("clustered light assignment"), self.owner);
-            super::clusters::announce_assignment(&mut pass, false);
+            super::clusters::announce_assignment(&mut pass, false, self.lights.bands().is_some());
             // The assignment's buffers live in the cluster store; the token orders the shade after it.
             pass.write(&self.token, TextureDesc::token());
             pass.run(move |cx| self.assign(grid, cx));

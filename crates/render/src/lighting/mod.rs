@@ -7,6 +7,7 @@ pub(crate) mod clusters_key;
 pub(crate) mod composite;
 mod cook_torrance;
 pub(crate) mod cook_torrance_key;
+pub mod light_merge;
 pub mod light_sets;
 mod ssgi;
 pub(crate) mod ssgi_key;
@@ -178,7 +179,7 @@ pub struct SunLight {
 
 /// Matches `Light` in shaders/lighting/*.wgsl.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuLight {
     /// xyz position, w range (suns: 0).
     position_range: [f32; 4],
@@ -243,6 +244,10 @@ pub struct LightBuffer {
     /// A hash of what was uploaded (the lights, the spots' projections):
     /// an environment probe's re-render key.
     content: u64,
+    /// Points: the lights as uploaded, for Light Merge (light_merge.rs).
+    uploaded: Option<Arc<[GpuLight]>>,
+    /// Merged lights: each light's band (light_merge.rs), read by the assignment.
+    bands: Option<wgpu::Buffer>,
 }
 
 /// A hash of `bytes`, for [`LightBuffer::hash_content`].
@@ -279,7 +284,7 @@ impl LightBuffer {
     /// re-evaluations: the same buffer (written only when the lights
     /// change), so the bind groups over it are reused from frame to frame.
     pub fn points_of(renderer: &Renderer, owner: Option<u32>, lights: &[PointLight]) -> Arc<Self> {
-        let gpu = lights
+        let gpu: Arc<[GpuLight]> = lights
             .iter()
             .map(|l| GpuLight {
                 position_range: l.position.extend(l.range.max(0.0)).to_array(),
@@ -288,7 +293,9 @@ impl LightBuffer {
                 cone: [-1.0, 0.0, shadow_slice(l.shadow), 0.0],
             })
             .collect();
-        Self::upload(renderer, owner, LightKind::Point, gpu)
+        let mut buffer = Self::upload(renderer, owner, LightKind::Point, &gpu);
+        Arc::get_mut(&mut buffer).expect("just made").uploaded = Some(gpu);
+        buffer
     }
 
     /// Spots projecting layers of `textures` (a 2D texture, or an array of
@@ -341,7 +348,7 @@ impl LightBuffer {
             bytemuck::cast_slice(&projections_cpu),
             wgpu::BufferUsages::STORAGE,
         );
-        let mut buffer = Self::upload(renderer, owner, LightKind::Spot, gpu);
+        let mut buffer = Self::upload(renderer, owner, LightKind::Spot, &gpu);
         let b = Arc::get_mut(&mut buffer).expect("just made");
         b.projections = Some(projections);
         b.content ^= bytes_hash(bytemuck::cast_slice(&projections_cpu)).rotate_left(1);
@@ -355,7 +362,7 @@ impl LightBuffer {
 
     /// As [`LightBuffer::suns`], kept under node `owner` ([`LightBuffer::points_of`]).
     pub fn suns_of(renderer: &Renderer, owner: Option<u32>, lights: &[SunLight]) -> Arc<Self> {
-        let gpu = lights
+        let gpu: Vec<GpuLight> = lights
             .iter()
             .map(|l| GpuLight {
                 position_range: [0.0; 4],
@@ -364,18 +371,18 @@ impl LightBuffer {
                 cone: [-1.0, 0.0, shadow_slice(l.shadow), 0.0],
             })
             .collect();
-        Self::upload(renderer, owner, LightKind::Sun, gpu)
+        Self::upload(renderer, owner, LightKind::Sun, &gpu)
     }
 
     fn upload(
         renderer: &Renderer,
         owner: Option<u32>,
         kind: LightKind,
-        gpu: Vec<GpuLight>,
+        gpu: &[GpuLight],
     ) -> Arc<Self> {
         let count = gpu.len() as u32;
-        let content = bytes_hash(bytemuck::cast_slice(&gpu));
-        let buffer = renderer.kept_storage(owner, "lights", &gpu);
+        let content = bytes_hash(bytemuck::cast_slice(gpu));
+        let buffer = renderer.kept_storage(owner, "lights", gpu);
         Arc::new(LightBuffer {
             kind,
             count,
@@ -383,6 +390,8 @@ impl LightBuffer {
             projections: None,
             textures: None,
             content,
+            uploaded: None,
+            bands: None,
         })
     }
 
@@ -401,6 +410,11 @@ impl LightBuffer {
 
     pub(crate) fn buffer(&self) -> &wgpu::Buffer {
         &self.buffer
+    }
+
+    /// Merged lights' bands (light_merge.rs): one per light, for the assignment.
+    pub(crate) fn bands(&self) -> Option<&wgpu::Buffer> {
+        self.bands.as_ref()
     }
 
     pub(crate) fn projections(&self) -> Option<&wgpu::Buffer> {

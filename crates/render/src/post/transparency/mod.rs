@@ -728,7 +728,7 @@ impl Transparency {
         }
         // The froxel lists of clustered light buffers, where the base pass marked.
         if self.lights.iter().any(|set| set.clusters.is_some()) {
-            crate::lighting::announce_assignment(pass, true);
+            crate::lighting::announce_assignment(pass, true, false);
         }
         if self.compute {
             let lobes = self.recorded_lobes();
