@@ -1321,6 +1321,19 @@ fn shade_cut(
     mode: LightLoop,
     cutoff: f32,
 ) -> ImageF32 {
+    shade_approximated(renderer, g, lights, mode, cutoff, 0.0).0
+}
+
+/// [`shade_buffer`] with CookTorrance's light cutoff and light merge, and
+/// whether the recipe merged its lights.
+fn shade_approximated(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    lights: &[PointLight],
+    mode: LightLoop,
+    cutoff: f32,
+    merge: f32,
+) -> (ImageF32, bool) {
     let ct = CookTorrance::new(
         renderer,
         Some(1),
@@ -1331,12 +1344,13 @@ fn shade_cut(
         Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
     );
     let ct = CookTorrance::with_light_cutoff(ct, cutoff);
+    let ct = CookTorrance::with_light_merge(ct, renderer, merge);
     let [d, s] = frame(renderer, ct.as_ref(), SIZE, [&ct.diffuse, &ct.specular]);
     assert!(
         d.all_finite() && s.all_finite(),
-        "cutoff {cutoff}, {mode:?}: no NaN or infinity in the HDR targets"
+        "cutoff {cutoff}, merge {merge}, {mode:?}: no NaN or infinity in the HDR targets"
     );
-    ImageF32 {
+    let image = ImageF32 {
         width: d.width,
         height: d.height,
         pixels: d
@@ -1345,7 +1359,108 @@ fn shade_cut(
             .zip(&s.pixels)
             .map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2], 1.0])
             .collect(),
+    };
+    (image, ct.merges_lights())
+}
+
+/// Light Merge's partition: a cube of two equal lights at one point merges
+/// into one light equal to both, so the merged image is the exact one only
+/// if every froxel lists either the pair or their sum. One listing both
+/// doubles the pair's light there; one listing neither loses it.
+#[test]
+fn a_light_merge_lists_a_cube_or_its_members_in_every_froxel_never_both() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    // Pairs on a lattice 2 apart, each at the centre of a cube of 0.25 (a
+    // merge distance of 0.5): no cube holds two pairs.
+    let mut lights = Vec::new();
+    for (i, j) in (0..10).flat_map(|i| (0..10).map(move |j| (i, j))) {
+        let light = PointLight {
+            shadow: None,
+            position: Vec3::new(-9.875 + 2.0 * i as f32, 1.125, -9.875 + 2.0 * j as f32),
+            color: Vec3::new(0.2 + 0.08 * i as f32, 0.5, 1.0 - 0.08 * j as f32),
+            intensity: 6.0,
+            range: 3.0,
+        };
+        lights.extend([light, light]);
     }
+    let exact = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
+    for mode in FROXEL_WALKS {
+        let (merged, did) = shade_approximated(&renderer, &g, &lights, mode, 0.0, 0.5);
+        assert!(did, "{mode:?} merges");
+        let worst = max_relative_difference(&merged, &exact);
+        assert!(
+            worst < 2e-3,
+            "{mode:?}: the merged pairs differ by up to {worst}"
+        );
+    }
+    // The naive walk reads every light: it does not merge, and stays exact.
+    let (naive, did) = shade_approximated(&renderer, &g, &lights, LightLoop::Naive, 0.0, 0.5);
+    assert!(!did);
+    assert!(
+        naive.pixels == exact.pixels,
+        "the naive walk does not merge"
+    );
+}
+
+/// Merging lights that do not coincide approximates: the walks agree (they
+/// read the same lists), the light's total stays near the exact one, and
+/// off (0, NaN, infinity, less than 0) or a distance no froxel reaches is exact.
+#[test]
+fn a_light_merge_of_scattered_lights_is_close_and_off_or_out_of_reach_is_exact() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let lights = scattered(300);
+    let exact = shade(&renderer, &g, lights.clone(), LightLoop::Clustered);
+    for off in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        let (image, did) =
+            shade_approximated(&renderer, &g, &lights, LightLoop::Clustered, 0.0, off);
+        assert!(!did, "{off} merges nothing");
+        // The fill's atomics order a froxel's list anew each frame: the
+        // sums may differ in their last bits (the walks' own tolerance).
+        let worst = max_relative_difference(&image, &exact);
+        assert!(worst < 1e-3, "merge {off} is no merge: {worst}");
+    }
+    // Cubes of 500: every froxel lies nearer than 1,000 to every centroid,
+    // so every froxel lists the members, never a cube.
+    let (far, did) = shade_approximated(&renderer, &g, &lights, LightLoop::Clustered, 0.0, 1_000.0);
+    assert!(did, "300 lights in one cube merge");
+    let worst = max_relative_difference(&far, &exact);
+    assert!(
+        worst < 1e-3,
+        "out of reach, the merge differs by up to {worst}"
+    );
+    // Cubes of 2 (about three lights each): froxels 4 or more from a
+    // centroid shade the cube as one light.
+    let (merged, _) = shade_approximated(&renderer, &g, &lights, LightLoop::Clustered, 0.0, 4.0);
+    for mode in [LightLoop::Tiled, LightLoop::PerPixel] {
+        let (walked, did) = shade_approximated(&renderer, &g, &lights, mode, 0.0, 4.0);
+        assert!(did);
+        let worst = max_relative_difference(&walked, &merged);
+        assert!(
+            worst < 1e-3,
+            "{mode:?} differs from Clustered by up to {worst}"
+        );
+    }
+    let total = |image: &ImageF32| -> f64 {
+        image
+            .pixels
+            .iter()
+            .map(|p| f64::from(p[0] + p[1] + p[2]))
+            .sum()
+    };
+    let ratio = total(&merged) / total(&exact);
+    assert!(
+        (0.9..1.1).contains(&ratio),
+        "the merged light's total is {ratio} of the exact"
+    );
+    let changed = merged
+        .pixels
+        .iter()
+        .zip(&exact.pixels)
+        .filter(|(m, e)| (0..3).any(|c| (m[c] - e[c]).abs() > 1e-3 * e[c].abs().max(1e-3)))
+        .count();
+    assert!(changed > 0, "the far cubes are approximated");
 }
 
 #[test]
