@@ -1,9 +1,10 @@
-//! `spreadlight accuracy lights`: CookTorrance's Light Cutoff, GPU time
-//! against error. The scene is a light benchmark patch
+//! `spreadlight accuracy lights`: CookTorrance's Light Cutoff and Light
+//! Merge, GPU time against error. The scene is a light benchmark patch
 //! (`patches/bench-lights.ron` unless `--patch` names another): every
 //! `BenchLights` node's Count is set to each of `--counts`, every
-//! CookTorrance node's Light Cutoff to each of `--cutoffs`. The reference
-//! is the same patch with no cutoff (0), which is exact: the froxel walks
+//! CookTorrance node's Light Cutoff to each of `--cutoffs` (no merge), then
+//! its Light Merge to each of `--merges` (no cutoff). The reference is the
+//! same patch with neither (0), which is exact: the froxel walks
 //! equal the naive loop, and the naive loop the CPU reference BRDF (the
 //! lighting tests). Error: RMSE and SSIM of the patch's Output (what a
 //! viewer sees, tonemapped) at `--size`; time: the CookTorrance passes'
@@ -22,7 +23,7 @@ use crate::session::{Session, parse_size};
 
 #[derive(clap::Args)]
 pub struct LightArgs {
-    /// The light benchmark patch: a BenchLights node (its Count is set) and CookTorrance nodes (their Light Cutoff is set).
+    /// The light benchmark patch: a BenchLights node (its Count is set) and CookTorrance nodes (their Light Cutoff and Light Merge are set).
     #[arg(long, default_value = "patches/bench-lights.ron")]
     patch: PathBuf,
     /// Light counts, comma-separated.
@@ -31,6 +32,9 @@ pub struct LightArgs {
     /// Light cutoffs (illuminance; 0: exact, the reference), comma-separated.
     #[arg(long, default_value = "0,1,3,10,30,100", value_delimiter = ',')]
     cutoffs: Vec<f32>,
+    /// Light merge distances (world units; 0: exact), comma-separated: each with no cutoff.
+    #[arg(long, default_value = "1,2,4", value_delimiter = ',')]
+    merges: Vec<f32>,
     /// Where the error is measured.
     #[arg(long, default_value = "320x180", value_parser = parse_size)]
     size: (u32, u32),
@@ -38,10 +42,11 @@ pub struct LightArgs {
     common: Common,
 }
 
-/// One cutoff at one count: its error against no cutoff, its GPU time.
+/// One cutoff or merge at one count: its error against neither, its GPU time.
 struct Row {
     count: i64,
     cutoff: f32,
+    merge: f32,
     error: Error,
     /// The CookTorrance passes' GPU ms (assignment and shade).
     lighting_ms: Option<f64>,
@@ -50,8 +55,8 @@ struct Row {
     frame_ms: Option<f64>,
 }
 
-/// `patch` with every BenchLights node's Count and every CookTorrance node's Light Cutoff set.
-fn with_settings(patch: &Patch, count: i64, cutoff: f32) -> Patch {
+/// `patch` with every BenchLights node's Count and every CookTorrance node's Light Cutoff and Light Merge set.
+fn with_settings(patch: &Patch, count: i64, (cutoff, merge): (f32, f32)) -> Patch {
     let mut set = patch.clone();
     for node in &mut set.nodes {
         match node.type_name.as_str() {
@@ -62,6 +67,8 @@ fn with_settings(patch: &Patch, count: i64, cutoff: f32) -> Patch {
             "CookTorrance" => {
                 node.values
                     .insert("Light Cutoff".to_owned(), Spread::Float(vec![cutoff]));
+                node.values
+                    .insert("Light Merge".to_owned(), Spread::Float(vec![merge]));
             }
             _ => {}
         }
@@ -139,7 +146,22 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
     if let Some(bad) = args.cutoffs.iter().find(|c| !(c.is_finite() && **c >= 0.0)) {
         bail!("--cutoffs: {bad} is not a light cutoff (0 or more)");
     }
-    let first = with_settings(&patch, args.counts.first().copied().unwrap_or(1000), 0.0);
+    if let Some(bad) = args.merges.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
+        bail!("--merges: {bad} is not a light merge distance (0 or more)");
+    }
+    // Each cutoff without merging, then each merge without a cutoff (the
+    // exact setting, both 0, once).
+    let settings: Vec<(f32, f32)> = args
+        .cutoffs
+        .iter()
+        .map(|&c| (c, 0.0))
+        .chain(args.merges.iter().filter(|&&m| m > 0.0).map(|&m| (0.0, m)))
+        .collect();
+    let first = with_settings(
+        &patch,
+        args.counts.first().copied().unwrap_or(1000),
+        (0.0, 0.0),
+    );
     let mut small = open(args, &first, args.size, true)?;
     let mut large = open(args, &first, args.common.time_size, false)?;
     let adapter = small
@@ -148,11 +170,16 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
         .map_or_else(String::new, |r| r.gpu.adapter_name());
     let mut rows = Vec::new();
     for &count in &args.counts {
-        // The reference: no cutoff. Two frames, so every pass has run once before the read.
-        run_frames(&mut small, args, &with_settings(&patch, count, 0.0), 2)?;
+        // The reference: no cutoff, no merge. Two frames, so every pass has run once before the read.
+        run_frames(
+            &mut small,
+            args,
+            &with_settings(&patch, count, (0.0, 0.0)),
+            2,
+        )?;
         let truth = output_channels(&small)?;
-        for &cutoff in &args.cutoffs {
-            let settings = with_settings(&patch, count, cutoff);
+        for &(cutoff, merge) in &settings {
+            let settings = with_settings(&patch, count, (cutoff, merge));
             run_frames(&mut small, args, &settings, 2)?;
             let approx = output_channels(&small)?;
             let error = Error::of(
@@ -177,6 +204,7 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
             rows.push(Row {
                 count,
                 cutoff,
+                merge,
                 error,
                 lighting_ms: of(None),
                 shade_ms: of(Some("shade")),
@@ -190,7 +218,7 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
                 "{}",
                 serde_json::json!({
                     "effect": "lights", "adapter": adapter, "patch": args.patch.display().to_string(),
-                    "lights": r.count, "cutoff": r.cutoff,
+                    "lights": r.count, "cutoff": r.cutoff, "merge": r.merge,
                     "error_size": [args.size.0, args.size.1],
                     "time_size": [args.common.time_size.0, args.common.time_size.1],
                     "rmse": r.error.rmse, "ssim": r.error.ssim,
@@ -201,8 +229,8 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let mut table = format!(
-        "CookTorrance's Light Cutoff on {adapter}: {}, GPU ms at {}x{} (medians of {} frames), error of the Output at {}x{} against no cutoff (exact).\n\n\
-         | lights | cutoff | CookTorrance ms | of which shade | frame ms | RMSE | SSIM |\n|---:|---:|---:|---:|---:|---:|---:|\n",
+        "CookTorrance's Light Cutoff and Light Merge on {adapter}: {}, GPU ms at {}x{} (medians of {} frames), error of the Output at {}x{} against neither (exact).\n\n\
+         | lights | cutoff | merge | CookTorrance ms | of which shade | frame ms | RMSE | SSIM |\n|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         args.patch.display(),
         args.common.time_size.0,
         args.common.time_size.1,
@@ -212,9 +240,10 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
     );
     for r in &rows {
         table.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {:.5} | {:.4} |\n",
+            "| {} | {} | {} | {} | {} | {} | {:.5} | {:.4} |\n",
             r.count,
             r.cutoff,
+            r.merge,
             ms(r.lighting_ms),
             ms(r.shade_ms),
             ms(r.frame_ms),
@@ -222,17 +251,25 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
             r.error.ssim
         ));
     }
-    args.common
-        .publish(&table, "Light Cutoff", "RMSE of the Output", || {
+    args.common.publish(
+        &table,
+        "Light Cutoff and Light Merge",
+        "RMSE of the Output",
+        || {
             super::plot::Series::group(rows.iter().map(|r| {
                 (
                     format!("{} lights", r.count),
                     (
                         r.lighting_ms.unwrap_or(0.0),
                         r.error.rmse,
-                        format!("cutoff {}", r.cutoff),
+                        if r.merge > 0.0 {
+                            format!("merge {}", r.merge)
+                        } else {
+                            format!("cutoff {}", r.cutoff)
+                        },
                     ),
                 )
             }))
-        })
+        },
+    )
 }
