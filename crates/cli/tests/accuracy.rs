@@ -732,6 +732,8 @@ fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
         "100",
         "--cutoffs",
         "0,100,400",
+        "--merges",
+        "0",
         "--size",
         "96x54",
         "--time-size",
@@ -761,4 +763,42 @@ fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
         more > some && more > 0.0,
         "cutoffs 100 / 400: {some} / {more}"
     );
+}
+
+/// Lights: CookTorrance's Light Merge on the light benchmark with 5,000
+/// lights (enough that cubes hold several): each merge is timed and
+/// approximates, a little (lavapipe at 96x54: RMSE 0.0002-0.001).
+#[test]
+fn lights_every_merge_is_timed_and_approximates_the_exact_image() {
+    let rows = json_rows(&[
+        "lights",
+        "--counts",
+        "5000",
+        "--cutoffs",
+        "0",
+        "--merges",
+        "2,4",
+        "--size",
+        "96x54",
+        "--time-size",
+        "96x54",
+        "--warmup",
+        "0",
+        "--frames",
+        "1",
+    ]);
+    assert_eq!(rows.len(), 3, "the reference, then each merge");
+    let at = |merge: f64| row(&rows, &[("merge", merge.into())]);
+    for r in &rows {
+        timed(r, "lighting_ms");
+        finite_error(r, "rmse", 1.0);
+    }
+    assert!(num(at(0.0), "rmse") < 1e-5, "no merge is the exact image");
+    for merge in [2.0, 4.0] {
+        let (rmse, ssim) = (num(at(merge), "rmse"), num(at(merge), "ssim"));
+        assert!(
+            rmse > 0.0 && rmse < 0.05 && ssim > 0.9,
+            "merge {merge}: RMSE {rmse}, SSIM {ssim}"
+        );
+    }
 }
