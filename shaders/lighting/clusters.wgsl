@@ -51,10 +51,13 @@ struct Grid {
 #ifdef MERGED
 // Light Merge (crates/render/src/lighting/light_merge.rs): per light, the
 // world centroid of its merged cube (xyz) and the merge distance (w): w > 0
-// a member, listed only in froxels whose box lies nearer than w to the
-// centroid; w < 0 the cube's merged light, listed only in the others; 0 a
-// light listed wherever it reaches.
+// a member, shaded only at pixels nearer than w to the centroid; w < 0 the
+// cube's merged light, shaded only at the others; 0 a light shaded wherever
+// it reaches. A froxel lists the side any of its points may be on
+// (`in_band`); the shade decides per pixel with the view-space bands this
+// writes.
 @group(0) @binding(9) var<storage, read> bands: array<vec4<f32>>;
+@group(0) @binding(10) var<storage, read_write> view_bands: array<vec4<f32>>;
 #endif
 
 fn slice_of(depth: f32) -> i32 {
@@ -181,28 +184,33 @@ fn touches(light: vec4<f32>, froxel: array<vec3<f32>, 2>) -> bool {
     return dot(offset, offset) <= light.w * light.w;
 }
 
-// Light `index`'s band (MERGED) with its centroid moved to view space; a
+// Light `index`'s band (MERGED) in view space, as `transform` wrote it; a
 // band of 0 (every light without MERGED) lists the light wherever it reaches.
 fn band_of(index: u32) -> vec4<f32> {
 #ifdef MERGED
-    let band = bands[index];
-    if (band.w != 0.0) {
-        return vec4<f32>((camera.view * vec4<f32>(band.xyz, 1.0)).xyz, band.w);
-    }
-#endif
+    return view_bands[index];
+#else
     return vec4<f32>(0.0);
+#endif
 }
 
-// Whether a froxel lies on the light's side of its band: a member's froxels
-// are those nearer than the distance to the centroid, the merged light's the
-// rest. One comparison for both, so the two sides never overlap nor leave a gap.
+// Whether a froxel may hold a pixel on the light's side of its band: a
+// member's side is nearer than the distance to the centroid, the merged
+// light's the rest, so a member is listed where the box's nearest point is
+// near, the merged light where its farthest is not. A froxel across the
+// band lists both; each pixel then takes one (cook_torrance.wgsl's
+// `band_keeps`, the same comparison), so none gets both or neither.
 fn in_band(band: vec4<f32>, froxel: array<vec3<f32>, 2>) -> bool {
     if (band.w == 0.0) {
         return true;
     }
-    let offset = band.xyz - clamp(band.xyz, froxel[0], froxel[1]);
-    let near = dot(offset, offset) < band.w * band.w;
-    return near == (band.w > 0.0);
+    let d2 = band.w * band.w;
+    if (band.w > 0.0) {
+        let nearest = band.xyz - clamp(band.xyz, froxel[0], froxel[1]);
+        return dot(nearest, nearest) < d2;
+    }
+    let farthest = max(abs(band.xyz - froxel[0]), abs(froxel[1] - band.xyz));
+    return dot(farthest, farthest) >= d2;
 }
 
 // Whether froxel `f` lists the light: its sphere touches the froxel's box,
@@ -237,6 +245,10 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
     // The range the cutoff leaves (the range itself without one): the
     // assignment lists and the walks shade the light only that far.
     view_lights[id.x] = vec4<f32>(view.xyz, cutoff_range(light.position_range.w, light.intensity.rgb, grid.falloff.x));
+#ifdef MERGED
+    let band = bands[id.x];
+    view_bands[id.x] = select(vec4<f32>(0.0), vec4<f32>((camera.view * vec4<f32>(band.xyz, 1.0)).xyz, band.w), band.w != 0.0);
+#endif
 }
 
 // A light's froxels are shared among the 64 lanes of each of its workgroups

@@ -187,6 +187,39 @@ struct Surface {
 @group(0) @binding(4) var<storage, read> counts: array<u32>;
 @group(0) @binding(5) var<storage, read> offsets: array<u32>;
 @group(0) @binding(6) var<storage, read> indices: array<u32>;
+#ifdef MERGED
+// Light Merge: each light's band in view space (clusters.wgsl's
+// `transform`): its cube's centroid and the merge distance, + for a
+// member, - for the merged light, 0 for a light not merged.
+@group(0) @binding(40) var<storage, read> view_bands: array<vec4<f32>>;
+
+// Whether a pixel at `p` shades a light of `band`: a member nearer than the
+// merge distance to its cube's centroid, the merged light at it or farther.
+// clusters.wgsl's `in_band` listed every side some point of the froxel may
+// be on, so a pixel always finds the side it keeps.
+fn band_keeps(band: vec4<f32>, p: vec3<f32>) -> bool {
+    if (band.w == 0.0) {
+        return true;
+    }
+    let offset = band.xyz - p;
+    return (dot(offset, offset) < band.w * band.w) == (band.w > 0.0);
+}
+
+// Whether some point of the box [lo, hi] keeps a light of `band` (the
+// block's cull of its list): `band_keeps` for its nearest point (a member)
+// or its farthest (the merged light).
+fn band_reaches(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    if (band.w == 0.0) {
+        return true;
+    }
+    if (band.w > 0.0) {
+        let nearest = band.xyz - clamp(band.xyz, lo, hi);
+        return dot(nearest, nearest) < band.w * band.w;
+    }
+    let farthest = max(abs(band.xyz - lo), abs(hi - band.xyz));
+    return dot(farthest, farthest) >= band.w * band.w;
+}
+#endif
 #endif
 @group(0) @binding(7) var<storage, read> surfaces: array<Surface>;
 @group(0) @binding(8) var color: texture_2d<f32>;
@@ -406,6 +439,9 @@ var<workgroup> batch_view: array<vec4<f32>, BATCH>;
 // The lights' intensities (their records' `intensity`), read once per block.
 var<workgroup> batch_intensity: array<vec4<f32>, BATCH>;
 var<workgroup> batch_light: array<u32, BATCH>;
+#ifdef MERGED
+var<workgroup> batch_band: array<vec4<f32>, BATCH>;
+#endif
 
 fn light_index(slot: u32) -> u32 {
     return batch_light[slot];
@@ -835,6 +871,11 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             if (!(lv.w > 0.0)) {
                 continue;
             }
+#ifdef MERGED
+            if (!band_keeps(view_bands[light], p)) {
+                continue;
+            }
+#endif
             shade(light, with_inverse_range(lv), p, pw, surface, &sums);
         }
     }
@@ -893,12 +934,19 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             var light = 0u;
             var lv = vec4<f32>(0.0);
             var intensity = vec4<f32>(0.0);
+#ifdef MERGED
+            var band = vec4<f32>(0.0);
+#endif
             if (k < froxel.y) {
                 light = indices[froxel.x + k];
                 lv = view_lights[light];
                 let offset = lv.xyz - clamp(lv.xyz, lo, hi);
                 // A light without a range lights nothing (shade leaves it to this test).
                 survives = lv.w > 0.0 && dot(offset, offset) < lv.w * lv.w;
+#ifdef MERGED
+                band = view_bands[light];
+                survives = survives && band_reaches(band, lo, hi);
+#endif
                 if (survives) {
                     atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
                     // Read before the barrier, so the wait for it overlaps the other lanes'.
@@ -922,8 +970,22 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
                 batch_view[place] = with_inverse_range(lv);
                 batch_intensity[place] = intensity;
                 batch_light[place] = light;
+#ifdef MERGED
+                batch_band[place] = band;
+#endif
             }
             workgroupBarrier();
+#ifdef MERGED
+            // A block across a band holds a cube's members and its merged
+            // light: each pixel keeps its side.
+            if (covered && slice == z) {
+                for (var slot = 0u; slot < survivors; slot++) {
+                    if (band_keeps(batch_band[slot], p)) {
+                        shade(slot, batch_view[slot], p, pw, surface, &sums);
+                    }
+                }
+            }
+#else
             if (covered && slice == z) {
                 // Two lights a step, their positions loaded together: the
                 // second's load and range test overlap the first's.
@@ -938,6 +1000,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
                     shade(slot, batch_view[slot], p, pw, surface, &sums);
                 }
             }
+#endif
             round++;
         }
     }

@@ -1387,7 +1387,8 @@ fn a_light_merge_lists_a_cube_or_its_members_in_every_froxel_never_both() {
     let exact = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
     for mode in FROXEL_WALKS {
         let (merged, did) = shade_approximated(&renderer, &g, &lights, mode, 0.0, 0.5);
-        assert!(did, "{mode:?} merges");
+        // The tiled walk culls by depth bins a band does not follow: it does not merge.
+        assert_eq!(did, mode != LightLoop::Tiled, "{mode:?}");
         let worst = max_relative_difference(&merged, &exact);
         assert!(
             worst < 2e-3,
@@ -1433,7 +1434,7 @@ fn a_light_merge_of_scattered_lights_is_close_and_off_or_out_of_reach_is_exact()
     // Cubes of 2 (about three lights each): froxels 4 or more from a
     // centroid shade the cube as one light.
     let (merged, _) = shade_approximated(&renderer, &g, &lights, LightLoop::Clustered, 0.0, 4.0);
-    for mode in [LightLoop::Tiled, LightLoop::PerPixel] {
+    for mode in [LightLoop::PerPixel] {
         let (walked, did) = shade_approximated(&renderer, &g, &lights, mode, 0.0, 4.0);
         assert!(did);
         let worst = max_relative_difference(&walked, &merged);

@@ -152,6 +152,8 @@ pub(crate) struct ClusterBuffers {
     pub lights: u32,
     pub capacity: u32,
     pub view_lights: wgpu::Buffer,
+    /// Merged lights' bands in view space (Light Merge), one per light.
+    pub view_bands: wgpu::Buffer,
     pub counts: wgpu::Buffer,
     pub offsets: wgpu::Buffer,
     pub indices: wgpu::Buffer,
@@ -200,6 +202,7 @@ impl ClusterStore {
                 lights: lights.max(1),
                 capacity,
                 view_lights: storage("view-space lights", u64::from(lights.max(1)) * 16),
+                view_bands: storage("view-space light bands", u64::from(lights.max(1)) * 16),
                 counts: storage("froxel light counts", u64::from(clusters) * 4),
                 offsets: storage("froxel light offsets", u64::from(clusters) * 4),
                 indices: storage("froxel light indices", u64::from(capacity) * 4),
@@ -276,7 +279,8 @@ pub(crate) fn assign_lights(
             .buffer("indices", &b.indices)
             .buffer("totals", &b.totals)
             .buffer_opt("occupied", occupied)
-            .buffer_opt("bands", lights.bands());
+            .buffer_opt("bands", lights.bands())
+            .buffer_opt("view_bands", lights.bands().map(|_| &b.view_bands));
         let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
         // transform: a thread per light; count and fill: workgroups per
         // light (x up to 65,535, then y; z splits a light's froxels);

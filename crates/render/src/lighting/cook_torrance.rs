@@ -283,12 +283,11 @@ impl CookTorrance {
     /// are shaded there as one light per cube, the near ones one by one.
     /// Fewer evaluations per pixel, each far cube approximated. 0, NaN,
     /// infinity or less than 0: no merging, the exact image; so too for the
-    /// naive walk (it reads every light, and would count a cube twice) and
-    /// for spots and suns. The merge is kept under the node while the lights
+    /// naive and tiled walks ([`Walk::merges`]) and for spots and suns. The merge is kept under the node while the lights
     /// and the distance stay. Call it on the recipe just made.
     pub fn with_light_merge(mut made: Arc<Self>, renderer: &Renderer, distance: f32) -> Arc<Self> {
         let this = Arc::get_mut(&mut made).expect("a recipe just made is not shared");
-        if this.walk.uses_froxels()
+        if this.walk.merges()
             && let Some(merged) = this.lights.merged(renderer, this.owner, distance)
         {
             this.lights = merged;
@@ -419,12 +418,16 @@ impl CookTorrance {
                 }),
             },
         };
+        let lights = match Lights::new(
+            self.lights.kind,
+            self.walk,
+            self.lights.textures().is_some(),
+        ) {
+            Lights::Point(walk) if self.merges_lights() => Lights::PointMerged(walk),
+            lights => lights,
+        };
         CookTorranceKey {
-            lights: Lights::new(
-                self.lights.kind,
-                self.walk,
-                self.lights.textures().is_some(),
-            ),
+            lights,
             shading,
             shadows: self
                 .shadows
@@ -488,6 +491,10 @@ impl CookTorrance {
             .buffer("counts", &clusters.counts)
             .buffer("offsets", &clusters.offsets)
             .buffer("indices", &clusters.indices)
+            .buffer_opt(
+                "view_bands",
+                self.merges_lights().then_some(&clusters.view_bands),
+            )
             .buffer("surfaces", &self.surfaces)
             .texture("color", io.color)
             .texture("normals", io.normals)

@@ -37,6 +37,13 @@ impl Walk {
         self != Walk::Naive
     }
 
+    /// Whether Light Merge may apply: the walks whose pixels read their
+    /// own froxel's list (the naive walk reads every light, and the tiled
+    /// one culls by depth bins that a band does not follow).
+    pub fn merges(self) -> bool {
+        matches!(self, Walk::Clustered | Walk::PerPixel)
+    }
+
     const ALL: [Walk; 4] = [Walk::Naive, Walk::Clustered, Walk::Tiled, Walk::PerPixel];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -57,6 +64,11 @@ impl Walk {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Lights {
     Point(Walk),
+    /// Point lights with Light Merge (MERGED): each pixel keeps, of a
+    /// cube's members and their merged light, the side of the band it lies
+    /// on. Only the walks that read a pixel's own froxel list merge
+    /// ([`Walk::merges`]).
+    PointMerged(Walk),
     Spot {
         walk: Walk,
         /// Spots projecting texture layers.
@@ -80,6 +92,7 @@ impl Lights {
     fn features(self) -> impl Iterator<Item = &'static str> {
         let (kind, walk, textured) = match self {
             Lights::Point(walk) => (None, walk, false),
+            Lights::PointMerged(walk) => (Some("MERGED"), walk, false),
             Lights::Spot { walk, textured } => (Some("LIGHT_SPOT"), walk, textured),
             Lights::Sun => (Some("LIGHT_SUN"), Walk::Naive, false),
         };
@@ -90,6 +103,12 @@ impl Lights {
 
     fn all() -> Vec<Lights> {
         let mut all: Vec<Lights> = Walk::ALL.into_iter().map(Lights::Point).collect();
+        all.extend(
+            Walk::ALL
+                .into_iter()
+                .filter(|w| w.merges())
+                .map(Lights::PointMerged),
+        );
         for walk in Walk::ALL {
             for textured in [false, true] {
                 all.push(Lights::Spot { walk, textured });
@@ -293,6 +312,7 @@ impl Permutation for CookTorranceKey {
         "TILED",
         "PER_PIXEL",
         "ANISOTROPY",
+        "MERGED",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -303,12 +323,12 @@ impl Permutation for CookTorranceKey {
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
     }
 
-    /// 13 light walks x 5 shadow samplings x (69 shadings x 2, and the 64
-    /// anisotropic ones with the surface target): the 13,130 feature sets
-    /// the string rules allow (2,730 before ANISOTROPY, IRIDESCENCE and
-    /// SHEEN each doubled the built-in BRDF's material shadings: 2 x 16 + 1
-    /// per energy compensation, and as many anisotropic ones; the 3 custom
-    /// ones unchanged).
+    /// 15 light walks x 5 shadow samplings x (69 shadings x 2, and the 64
+    /// anisotropic ones with the surface target): the 15,150 feature sets
+    /// the string rules allow (13,130 before Light Merge's two walks; 2,730
+    /// before ANISOTROPY, IRIDESCENCE and SHEEN each doubled the built-in
+    /// BRDF's material shadings: 2 x 16 + 1 per energy compensation, and as
+    /// many anisotropic ones; the 3 custom ones unchanged).
     fn all() -> Vec<Self> {
         let mut all = Vec::new();
         for lights in Lights::all() {

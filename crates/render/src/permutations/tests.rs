@@ -167,7 +167,7 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 fn the_permutation_count_is_unchanged() {
     assert_eq!(ENTRY_SHADERS.len(), 47);
     let count = all_permutations().len();
-    assert_eq!(count, 30_707);
+    assert_eq!(count, 32_729);
     let doc = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../docs/architecture.md"
@@ -381,7 +381,8 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ),
         ("gbuffer/published_depth.wgsl", &["COMPUTE_RASTER"], vec![]),
         // OCCUPIED (session 17): lit transparency's lists only in marked froxels.
-        ("lighting/clusters.wgsl", &["OCCUPIED"], vec![]),
+        // MERGED (session 28): Light Merge's bands.
+        ("lighting/clusters.wgsl", &["OCCUPIED", "MERGED"], vec![]),
         (
             "lighting/ssss.wgsl",
             &["VERTICAL", "SOURCES_2", "SOURCES_3"],
@@ -514,11 +515,15 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         Rule::Requires("TILED", "CLUSTERED"),
         Rule::Requires("PER_PIXEL", "CLUSTERED"),
         Rule::AtMostOne(&["TILED", "PER_PIXEL"]),
+        // Light Merge (session 28): point lights, walked by their own froxel's list.
+        Rule::Requires("MERGED", "CLUSTERED"),
+        Rule::AtMostOne(&["MERGED", "LIGHT_SPOT"]),
+        Rule::AtMostOne(&["MERGED", "TILED"]),
     ];
     let (sets, n) = keyed("lighting/cook_torrance.wgsl");
     assert_eq!(
         (sets, n),
-        (ruled(cook_torrance, &cook_torrance_rules), 13130)
+        (ruled(cook_torrance, &cook_torrance_rules), 15150)
     );
     // The G-buffer view: the rule's empty choice (no channel, a black
     // image) was never built, as every view shows a Channel.

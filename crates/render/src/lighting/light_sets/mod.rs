@@ -187,6 +187,8 @@ impl Use {
             storage: 1
                 + u32::from(recipe.materials().is_none())
                 + 4 * u32::from(froxels)
+                // Light Merge's view-space bands.
+                + u32::from(recipe.merges_lights())
                 + u32::from(spot)
                 + u32::from(shadows.is_some()),
             storage_textures: 2 + u32::from(recipe.sss.is_some()),

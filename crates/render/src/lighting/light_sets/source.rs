@@ -32,6 +32,7 @@ pub const SET_FEATURES: &[&str] = &[
     "CLUSTERED",
     "TILED",
     "PER_PIXEL",
+    "MERGED",
     "SPOT_TEXTURE",
     "SHADOWS",
     "SHADOW_PCF",

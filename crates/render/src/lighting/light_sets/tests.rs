@@ -43,6 +43,7 @@ fn shares_memory(key: &CookTorranceKey) -> bool {
     matches!(
         key.lights,
         Lights::Point(Walk::Clustered | Walk::Tiled)
+            | Lights::PointMerged(Walk::Clustered)
             | Lights::Spot {
                 walk: Walk::Clustered | Walk::Tiled,
                 ..
@@ -53,8 +54,8 @@ fn shares_memory(key: &CookTorranceKey) -> bool {
 #[test]
 fn every_kind_of_set_composes_in_a_fused_loop() {
     let kinds = set_kinds();
-    // 13 light walks x 5 shadow samplings.
-    assert_eq!(kinds.len(), 65);
+    // 15 light walks (13, and the two that merge point lights) x 5 shadow samplings.
+    assert_eq!(kinds.len(), 75);
     let sun = kinds
         .iter()
         .copied()
