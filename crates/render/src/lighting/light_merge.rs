@@ -1,16 +1,19 @@
 //! Light Merge (CookTorrance's quality pin; 0 by default, the exact image):
-//! point lights far from a froxel are shaded there as one light per world
+//! point lights far from a pixel are shaded there as one light per world
 //! cube, a one-level cut of a light tree (lightcuts, Walter et al. 2005)
-//! that the clustered assignment chooses per froxel.
+//! that each pixel chooses.
 //!
 //! The lights are binned into cubes half the merge distance D across. A
 //! cube of two or more lights gets one more light: their summed intensity at
 //! their luminance-weighted centroid, reaching as far as any of them does.
-//! Each member and the merged light carry a band, the centroid and D: the
-//! assignment (lighting/clusters.wgsl, MERGED) lists a member only in the
-//! froxels whose box lies nearer than D to the centroid, and the merged light
-//! only in the others. The two tests are one test, so every froxel sees
-//! either a cube's members or their sum, never both and never neither.
+//! Each member and the merged light carry a band, the centroid and D: a pixel
+//! nearer than D to the centroid shades the members, any other pixel the
+//! merged light. The assignment (lighting/clusters.wgsl, MERGED) lists each
+//! side in the froxels where some point may lie on it (a member where the
+//! box's nearest point is within D, the merged light where its farthest is
+//! not); the shade (lighting/cook_torrance.wgsl, MERGED) culls a block's
+//! list by the block's box the same way and keeps, per pixel, the side the
+//! pixel lies on. One comparison decides, so no pixel gets both or neither.
 //!
 //! A pixel then evaluates its near lights one by one and the far ones a cube
 //! at a time: on bench-lights (about 800 lights reach a floor pixel) a merge
@@ -19,8 +22,9 @@
 //! the centroid, at D or more) and the merged reach's window, which fades
 //! the sum over the farthest member's reach; `spreadlight accuracy lights
 //! --merges` measures it. Lights with a shadow, and cubes of one, stay as
-//! they are. Only the walks of froxel lists merge: the naive walk reads every
-//! light and would count a cube twice.
+//! they are. Only the walks that read a pixel's own froxel list merge
+//! (`Walk::merges`): the naive walk reads every light, and the tiled walk
+//! culls by depth bins a band does not follow.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
