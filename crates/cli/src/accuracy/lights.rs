@@ -3,7 +3,7 @@
 //! (`patches/bench-lights.ron` unless `--patch` names another): every
 //! `BenchLights` node's Count is set to each of `--counts`, every
 //! CookTorrance node's Light Cutoff to each of `--cutoffs` (no merge), then
-//! its Light Merge to each of `--merges` (no cutoff). The reference is the
+//! its Light Merge to each of `--merges` (with `--merge-cutoff`, 0: none). The reference is the
 //! same patch with neither (0), which is exact: the froxel walks
 //! equal the naive loop, and the naive loop the CPU reference BRDF (the
 //! lighting tests). Error: RMSE and SSIM of the patch's Output (what a
@@ -35,6 +35,9 @@ pub struct LightArgs {
     /// Light merge distances (world units; 0: exact), comma-separated: each with no cutoff.
     #[arg(long, default_value = "1,2,4", value_delimiter = ',')]
     merges: Vec<f32>,
+    /// The light cutoff the merges run with (0: none), to see the two knobs together.
+    #[arg(long, default_value_t = 0.0)]
+    merge_cutoff: f32,
     /// Where the error is measured.
     #[arg(long, default_value = "320x180", value_parser = parse_size)]
     size: (u32, u32),
@@ -149,13 +152,24 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
     if let Some(bad) = args.merges.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
         bail!("--merges: {bad} is not a light merge distance (0 or more)");
     }
-    // Each cutoff without merging, then each merge without a cutoff (the
-    // exact setting, both 0, once).
+    if !(args.merge_cutoff.is_finite() && args.merge_cutoff >= 0.0) {
+        bail!(
+            "--merge-cutoff: {} is not a light cutoff (0 or more)",
+            args.merge_cutoff
+        );
+    }
+    // Each cutoff without merging, then each merge with `--merge-cutoff`
+    // (the exact setting, both 0, once).
     let settings: Vec<(f32, f32)> = args
         .cutoffs
         .iter()
         .map(|&c| (c, 0.0))
-        .chain(args.merges.iter().filter(|&&m| m > 0.0).map(|&m| (0.0, m)))
+        .chain(
+            args.merges
+                .iter()
+                .filter(|&&m| m > 0.0)
+                .map(|&m| (args.merge_cutoff, m)),
+        )
         .collect();
     let first = with_settings(
         &patch,
