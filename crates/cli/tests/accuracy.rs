@@ -721,19 +721,16 @@ fn transmission_every_setting_is_timed_and_refraction_nears_the_ray_trace() {
     );
 }
 
-/// Lights: CookTorrance's Light Cutoff on the light benchmark at 96x54 with
-/// 100 lights: every cutoff timed; no cutoff is the reference itself (RMSE
-/// 0, SSIM 1), and a higher cutoff (shorter reaches) costs more error.
-#[test]
-fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
-    let rows = json_rows(&[
+/// `accuracy lights` at 96x54, one frame a setting and no warm-up: its JSON rows.
+fn light_rows(counts: &str, cutoffs: &str, merges: &str) -> Vec<Value> {
+    json_rows(&[
         "lights",
         "--counts",
-        "100",
+        counts,
         "--cutoffs",
-        "0,100,400",
+        cutoffs,
         "--merges",
-        "0",
+        merges,
         "--size",
         "96x54",
         "--time-size",
@@ -742,7 +739,15 @@ fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
         "0",
         "--frames",
         "1",
-    ]);
+    ])
+}
+
+/// Lights: CookTorrance's Light Cutoff on the light benchmark at 96x54 with
+/// 100 lights: every cutoff timed; no cutoff is the reference itself (RMSE
+/// 0, SSIM 1), and a higher cutoff (shorter reaches) costs more error.
+#[test]
+fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
+    let rows = light_rows("100", "0,100,400", "0");
     assert_eq!(rows.len(), 3);
     let at = |cutoff: f64| row(&rows, &[("cutoff", cutoff.into())]);
     for r in &rows {
@@ -770,23 +775,7 @@ fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
 /// approximates, a little (lavapipe at 96x54: RMSE 0.0002-0.001).
 #[test]
 fn lights_every_merge_is_timed_and_approximates_the_exact_image() {
-    let rows = json_rows(&[
-        "lights",
-        "--counts",
-        "5000",
-        "--cutoffs",
-        "0",
-        "--merges",
-        "2,4",
-        "--size",
-        "96x54",
-        "--time-size",
-        "96x54",
-        "--warmup",
-        "0",
-        "--frames",
-        "1",
-    ]);
+    let rows = light_rows("5000", "0", "2,4");
     assert_eq!(rows.len(), 3, "the reference, then each merge");
     let at = |merge: f64| row(&rows, &[("merge", merge.into())]);
     for r in &rows {

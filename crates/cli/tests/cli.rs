@@ -796,12 +796,21 @@ fn stats_json_shows_passes_and_culling() {
     assert!(json["runtime"]["evaluated"].as_u64().expect("count") > 0);
 }
 
+/// `spreadlight bench ARGS --json`, which must succeed: its one JSON line.
+fn bench_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["bench"];
+    all.extend_from_slice(args);
+    all.push("--json");
+    let o = spreadlight(&all);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    serde_json::from_str(&text(&o.stdout)).expect("JSON")
+}
+
 /// An animated patch's nodes that run every frame are listed by their own
 /// CPU, the costliest first.
 #[test]
 fn bench_lists_the_nodes_that_cost_cpu() {
-    let o = spreadlight(&[
-        "bench",
+    let json = bench_json(&[
         "patches/gbuffer-spheres.ron",
         "--size",
         "32x18",
@@ -809,10 +818,7 @@ fn bench_lists_the_nodes_that_cost_cpu() {
         "1",
         "--frames",
         "3",
-        "--json",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
     let nodes = json["node_cpu_ms_median"]
         .as_array()
         .expect("node_cpu_ms_median");
@@ -936,8 +942,7 @@ fn bench_prints_one_json_line_with_the_adapter() {
 
     // --wall times frames in flight, batched recording and frame timing
     // leave the figures' shape alone.
-    let o = spreadlight(&[
-        "bench",
+    let json = bench_json(&[
         "patches/bench-gbuffer.ron",
         "--size",
         "32x18",
@@ -950,10 +955,7 @@ fn bench_prints_one_json_line_with_the_adapter() {
         "batched",
         "--timing",
         "frame",
-        "--json",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
     assert!(
         json["wall_ms_per_frame"]
             .as_f64()
@@ -992,8 +994,7 @@ fn bench_prints_one_json_line_with_the_adapter() {
 #[test]
 fn bench_orbit_turns_a_camera_and_names_a_wrong_pin() {
     let orbit = "43.Position=0.05";
-    let o = spreadlight(&[
-        "bench",
+    let json = bench_json(&[
         "patches/shadows.ron",
         "--size",
         "32x18",
@@ -1003,10 +1004,7 @@ fn bench_orbit_turns_a_camera_and_names_a_wrong_pin() {
         "2",
         "--orbit",
         orbit,
-        "--json",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
     assert_eq!(json["orbit"], orbit);
     for (bad, says) in [
         ("43.Nope=0.1", "has no input `Nope`"),
