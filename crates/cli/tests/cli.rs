@@ -796,14 +796,16 @@ fn stats_json_shows_passes_and_culling() {
     assert!(json["runtime"]["evaluated"].as_u64().expect("count") > 0);
 }
 
-/// `spreadlight bench ARGS --json`, which must succeed: its one JSON line.
+/// `spreadlight bench ARGS --json`, which must succeed and print one line: its JSON.
 fn bench_json(args: &[&str]) -> serde_json::Value {
     let mut all = vec!["bench"];
     all.extend_from_slice(args);
     all.push("--json");
     let o = spreadlight(&all);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    serde_json::from_str(&text(&o.stdout)).expect("JSON")
+    let stdout = text(&o.stdout);
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+    serde_json::from_str(&stdout).expect("JSON")
 }
 
 /// An animated patch's nodes that run every frame are listed by their own
@@ -838,8 +840,7 @@ fn bench_lists_the_nodes_that_cost_cpu() {
 
 #[test]
 fn bench_prints_one_json_line_with_the_adapter() {
-    let o = spreadlight(&[
-        "bench",
+    let json = bench_json(&[
         "patches/bench-gbuffer.ron",
         "--size",
         "32x18",
@@ -849,12 +850,7 @@ fn bench_prints_one_json_line_with_the_adapter() {
         "3",
         "--set",
         "2.Input=5",
-        "--json",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let stdout = text(&o.stdout);
-    assert_eq!(stdout.lines().count(), 1);
-    let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     assert_eq!(json["size"], "32x18");
     assert!(json["adapter"].as_str().is_some_and(|a| !a.is_empty()));
     assert!(json["passes"].as_object().is_some());
