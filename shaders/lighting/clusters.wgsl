@@ -200,6 +200,12 @@ fn band_of(index: u32) -> vec4<f32> {
 // near, the merged light where its farthest is not. A froxel across the
 // band lists both; each pixel then takes one (cook_torrance.wgsl's
 // `band_keeps`, the same comparison), so none gets both or neither.
+//
+// Both tests are a little generous (BAND_SLACK): a pixel at a slice's edge
+// may lie a few ulps outside its froxel's box, and must still find its side
+// listed. Listing more costs a test, never a wrong sum: the pixel decides.
+const BAND_SLACK: f32 = 1e-3;
+
 fn in_band(band: vec4<f32>, froxel: array<vec3<f32>, 2>) -> bool {
     if (band.w == 0.0) {
         return true;
@@ -207,10 +213,10 @@ fn in_band(band: vec4<f32>, froxel: array<vec3<f32>, 2>) -> bool {
     let d2 = band.w * band.w;
     if (band.w > 0.0) {
         let nearest = band.xyz - clamp(band.xyz, froxel[0], froxel[1]);
-        return dot(nearest, nearest) < d2;
+        return dot(nearest, nearest) < d2 * (1.0 + BAND_SLACK);
     }
     let farthest = max(abs(band.xyz - froxel[0]), abs(froxel[1] - band.xyz));
-    return dot(farthest, farthest) >= d2;
+    return dot(farthest, farthest) >= d2 * (1.0 - BAND_SLACK);
 }
 
 // Whether froxel `f` lists the light: its sphere touches the froxel's box,

@@ -191,7 +191,7 @@ struct Surface {
 // Light Merge: each light's band in view space (clusters.wgsl's
 // `transform`): its cube's centroid and the merge distance, + for a
 // member, - for the merged light, 0 for a light not merged.
-@group(0) @binding(40) var<storage, read> view_bands: array<vec4<f32>>;
+@group(0) @binding(34) var<storage, read> view_bands: array<vec4<f32>>;
 
 // Whether a pixel at `p` shades a light of `band`: a member nearer than the
 // merge distance to its cube's centroid, the merged light at it or farther.
@@ -207,17 +207,19 @@ fn band_keeps(band: vec4<f32>, p: vec3<f32>) -> bool {
 
 // Whether some point of the box [lo, hi] keeps a light of `band` (the
 // block's cull of its list): `band_keeps` for its nearest point (a member)
-// or its farthest (the merged light).
+// or its farthest (the merged light), a little generous as the
+// assignment's `in_band` is (the pixel decides).
 fn band_reaches(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
     if (band.w == 0.0) {
         return true;
     }
+    let d2 = band.w * band.w;
     if (band.w > 0.0) {
         let nearest = band.xyz - clamp(band.xyz, lo, hi);
-        return dot(nearest, nearest) < band.w * band.w;
+        return dot(nearest, nearest) < d2 * 1.001;
     }
     let farthest = max(abs(band.xyz - lo), abs(hi - band.xyz));
-    return dot(farthest, farthest) >= band.w * band.w;
+    return dot(farthest, farthest) >= d2 * 0.999;
 }
 #endif
 #endif

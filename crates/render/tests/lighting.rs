@@ -1425,7 +1425,10 @@ fn a_light_merge_of_scattered_lights_is_close_and_off_or_out_of_reach_is_exact()
     // Cubes of 500: every froxel lies nearer than 1,000 to every centroid,
     // so every froxel lists the members, never a cube.
     let (far, did) = shade_approximated(&renderer, &g, &lights, LightLoop::Clustered, 0.0, 1_000.0);
-    assert!(did, "300 lights in one cube merge");
+    assert!(
+        did,
+        "the 300 lights merge in the few cubes of 500 they lie in"
+    );
     let worst = max_relative_difference(&far, &exact);
     assert!(
         worst < 1e-3,

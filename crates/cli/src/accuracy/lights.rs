@@ -32,7 +32,7 @@ pub struct LightArgs {
     /// Light cutoffs (illuminance; 0: exact, the reference), comma-separated.
     #[arg(long, default_value = "0,1,3,10,30,100", value_delimiter = ',')]
     cutoffs: Vec<f32>,
-    /// Light merge distances (world units; 0: exact), comma-separated: each with no cutoff.
+    /// Light merge distances (world units; 0: exact), comma-separated: each with `--merge-cutoff`.
     #[arg(long, default_value = "1,2,4", value_delimiter = ',')]
     merges: Vec<f32>,
     /// The light cutoff the merges run with (0: none), to see the two knobs together.

@@ -44,9 +44,9 @@ pub fn register(r: &mut Registry) {
              AddLight has a Shadow Slice is shadowed by that slice. Light Cutoff (0: off, the exact image) trades accuracy for \
              speed with many lights: each light reaches only as far as its illuminance (intensity over distance squared, its \
              brightest channel) stays above the cutoff, fading to 0 there, so fewer lights reach each pixel. Light Merge (0: off, the exact \
-             image) is a distance: point lights are binned into cubes half of it across, and a froxel at least that far from a cube's \
-             centroid shades the cube's lights as one (their sum at their centroid), nearer froxels one by one; lights with a shadow stay \
-             apart, and the Naive walk does not merge.",
+             image) is a distance: point lights are binned into cubes half of it across, and a pixel at least that far from a cube's \
+             centroid shades the cube's lights as one (their sum at their centroid), a nearer pixel one by one; lights with a shadow stay \
+             apart, and the Naive and Tiled walks do not merge.",
         )
         .with_pins(|p| {
             // Not post's pin helpers: Transparency (post) imports this file's LIGHT_LOOPS.

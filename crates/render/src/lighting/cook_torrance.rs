@@ -279,7 +279,7 @@ impl CookTorrance {
     }
 
     /// This recipe with a light merge distance (`light_merge.rs`): point
-    /// lights whose cube's centroid lies at least `distance` from a froxel
+    /// lights whose cube's centroid lies at least `distance` from a pixel
     /// are shaded there as one light per cube, the near ones one by one.
     /// Fewer evaluations per pixel, each far cube approximated. 0, NaN,
     /// infinity or less than 0: no merging, the exact image; so too for the

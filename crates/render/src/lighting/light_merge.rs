@@ -18,9 +18,10 @@
 //! A pixel then evaluates its near lights one by one and the far ones a cube
 //! at a time: on bench-lights (about 800 lights reach a floor pixel) a merge
 //! distance of 2 leaves about 130 near lights and 170 cubes. The error is the
-//! far cubes' spread (their members lie up to half a cube's diagonal from
-//! the centroid, at D or more) and the merged reach's window, which fades
-//! the sum over the farthest member's reach; `spreadlight accuracy lights
+//! far cubes' spread (a member lies up to a cube's diagonal, 0.87 D, from the
+//! luminance-weighted centroid, seen from D or more) and the merged reach's
+//! window, which fades the sum over the farthest member's reach (with a Light
+//! Cutoff, the sum's own cut reach); `spreadlight accuracy lights
 //! --merges` measures it. Lights with a shadow, and cubes of one, stay as
 //! they are. Only the walks that read a pixel's own froxel list merge
 //! (`Walk::merges`): the naive walk reads every light, and the tiled walk
@@ -42,10 +43,14 @@ fn luminance(intensity: [f32; 4]) -> f32 {
     0.2126 * intensity[0] + 0.7152 * intensity[1] + 0.0722 * intensity[2]
 }
 
-/// A light merge distance as the recipe keeps it: a finite positive
-/// distance, or 0 (no merging) for anything else.
+/// The shortest merge distance: below it, no merging (its square would
+/// underflow long before a cube held two distinct lights).
+const MIN_DISTANCE: f32 = 1e-6;
+
+/// A light merge distance as the recipe keeps it: a finite distance of
+/// [`MIN_DISTANCE`] or more, or 0 (no merging) for anything else.
 pub fn light_merge(distance: f32) -> f32 {
-    if distance.is_finite() && distance > 0.0 {
+    if distance.is_finite() && distance >= MIN_DISTANCE {
         distance
     } else {
         0.0
@@ -114,8 +119,12 @@ pub(super) fn merge(lights: &[GpuLight], distance: f32) -> Merged {
         if shadowed || !lit || !p.is_finite() || !luminance(l.intensity).is_finite() {
             continue;
         }
-        // `as` saturates: lights beyond i32's cubes share the outermost.
+        // Beyond i32's cubes `as` would saturate and bin far-apart lights
+        // together: such a light stays apart.
         let at = (p / cube).floor();
+        if at.abs().max_element() >= i32::MAX as f32 {
+            continue;
+        }
         cubes
             .entry(IVec3::new(at.x as i32, at.y as i32, at.z as i32))
             .or_default()
@@ -125,7 +134,7 @@ pub(super) fn merge(lights: &[GpuLight], distance: f32) -> Merged {
     let mut members: Vec<(IVec3, Vec<usize>)> =
         cubes.into_iter().filter(|(_, m)| m.len() > 1).collect();
     members.sort_by_key(|(c, _)| (c.z, c.y, c.x));
-    let count = members.len();
+    let mut count = 0;
     for (_, members) in members {
         let weight: f32 = members
             .iter()
@@ -147,8 +156,17 @@ pub(super) fn merge(lights: &[GpuLight], distance: f32) -> Merged {
             }
             let offset = Vec3::from_slice(&l.position_range[..3]).distance(centroid);
             reach = reach.max(l.position_range[3] + offset);
+        }
+        // Finite lights can still sum past f32: such a cube stays as it is,
+        // so no infinity or NaN reaches the shade.
+        let sum = Vec3::from_slice(&intensity[..3]);
+        if !(centroid.is_finite() && sum.is_finite() && reach.is_finite()) {
+            continue;
+        }
+        for &k in &members {
             bands[k] = centroid.extend(distance).to_array();
         }
+        count += 1;
         merged.push(GpuLight {
             position_range: centroid.extend(reach).to_array(),
             intensity,
@@ -164,10 +182,14 @@ pub(super) fn merge(lights: &[GpuLight], distance: f32) -> Merged {
     }
 }
 
+/// One merge: the lights' content hash, the distance's bits, and the merged
+/// buffer (`None` where no cube held two lights).
+type Made = (u64, u32, Option<Arc<LightBuffer>>);
+
 /// The last merge a node made: kept while its lights and distance stay, so
 /// still lights merge once.
 #[derive(Default)]
-struct Memo(Mutex<Option<(u64, u32, Arc<LightBuffer>)>>);
+struct Memo(Mutex<Option<Made>>);
 
 impl LightBuffer {
     /// These point lights merged at `distance` ([`light_merge`]), kept under
@@ -189,9 +211,14 @@ impl LightBuffer {
         if let Some((content, bits, kept)) = memo.as_ref()
             && (*content, *bits) == (self.content, distance.to_bits())
         {
-            return (kept.count > self.count).then(|| kept.clone());
+            return kept.clone();
         }
         let merged = merge(uploaded, distance);
+        if merged.cubes == 0 {
+            // Nothing to merge: the lights as they are, and nothing uploaded.
+            *memo = Some((self.content, distance.to_bits(), None));
+            return None;
+        }
         let buffer = Arc::new(LightBuffer {
             kind: LightKind::Point,
             count: merged.lights.len() as u32,
@@ -202,8 +229,8 @@ impl LightBuffer {
             uploaded: None,
             bands: Some(renderer.kept_storage(owner, "light bands", &merged.bands)),
         });
-        *memo = Some((self.content, distance.to_bits(), buffer.clone()));
-        (merged.cubes > 0).then_some(buffer)
+        *memo = Some((self.content, distance.to_bits(), Some(buffer.clone())));
+        Some(buffer)
     }
 }
 
@@ -281,9 +308,24 @@ mod tests {
     }
 
     #[test]
+    fn a_cube_whose_sum_overflows_and_lights_beyond_i32s_cubes_stay_apart() {
+        // Two finite lights whose sum is infinite; two far lights 1e12 apart
+        // that a saturating cube index would bin together.
+        let lights = [
+            point([0.1, 0.1, 0.1], [3e38, 3e38, 3e38], 5.0, -1.0),
+            point([0.2, 0.1, 0.1], [3e38, 3e38, 3e38], 5.0, -1.0),
+            point([1e13, 0.1, 0.1], [1.0; 3], 5.0, -1.0),
+            point([2e13, 0.1, 0.1], [1.0; 3], 5.0, -1.0),
+        ];
+        let m = merge(&lights, 2.0);
+        assert_eq!(m.cubes, 0, "{m:?}");
+        assert!((0..4).all(|k| m.band(k) == [0.0; 4]));
+    }
+
+    #[test]
     fn light_merge_keeps_finite_positive_distances_only() {
         assert_eq!(light_merge(1.5), 1.5);
-        for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        for bad in [0.0, 1e-9, -1.0, f32::NAN, f32::INFINITY] {
             assert_eq!(light_merge(bad), 0.0, "{bad}");
         }
     }
