@@ -796,6 +796,9 @@ fn stats_json_shows_passes_and_culling() {
     assert!(json["runtime"]["evaluated"].as_u64().expect("count") > 0);
 }
 
+/// A small, short bench: 32x18, one frame of warm-up, three timed.
+const SMALL: [&str; 6] = ["--size", "32x18", "--warmup", "1", "--frames", "3"];
+
 /// `spreadlight bench ARGS --json`, which must succeed and print one line: its JSON.
 fn bench_json(args: &[&str]) -> serde_json::Value {
     let mut all = vec!["bench"];
@@ -812,15 +815,7 @@ fn bench_json(args: &[&str]) -> serde_json::Value {
 /// CPU, the costliest first.
 #[test]
 fn bench_lists_the_nodes_that_cost_cpu() {
-    let json = bench_json(&[
-        "patches/gbuffer-spheres.ron",
-        "--size",
-        "32x18",
-        "--warmup",
-        "1",
-        "--frames",
-        "3",
-    ]);
+    let json = bench_json(&[&["patches/gbuffer-spheres.ron"][..], &SMALL].concat());
     let nodes = json["node_cpu_ms_median"]
         .as_array()
         .expect("node_cpu_ms_median");
@@ -840,17 +835,14 @@ fn bench_lists_the_nodes_that_cost_cpu() {
 
 #[test]
 fn bench_prints_one_json_line_with_the_adapter() {
-    let json = bench_json(&[
-        "patches/bench-gbuffer.ron",
-        "--size",
-        "32x18",
-        "--warmup",
-        "1",
-        "--frames",
-        "3",
-        "--set",
-        "2.Input=5",
-    ]);
+    let json = bench_json(
+        &[
+            &["patches/bench-gbuffer.ron"][..],
+            &SMALL,
+            &["--set", "2.Input=5"],
+        ]
+        .concat(),
+    );
     assert_eq!(json["size"], "32x18");
     assert!(json["adapter"].as_str().is_some_and(|a| !a.is_empty()));
     assert!(json["passes"].as_object().is_some());
