@@ -283,8 +283,9 @@ impl CookTorrance {
     /// are shaded there as one light per cube, the near ones one by one.
     /// Fewer evaluations per pixel, each far cube approximated. 0, NaN,
     /// infinity or less than 0: no merging, the exact image; so too for the
-    /// naive and tiled walks ([`Walk::merges`]) and for spots and suns. The merge is kept under the node while the lights
-    /// and the distance stay. Call it on the recipe just made.
+    /// naive and tiled walks ([`Walk::merges`]) and for spots and suns. The
+    /// merge is kept under the node while the lights and the distance stay.
+    /// Call it on the recipe just made.
     pub fn with_light_merge(mut made: Arc<Self>, renderer: &Renderer, distance: f32) -> Arc<Self> {
         let this = Arc::get_mut(&mut made).expect("a recipe just made is not shared");
         if this.walk.merges()
