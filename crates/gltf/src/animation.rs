@@ -270,7 +270,11 @@ impl GltfScene {
     /// Every glTF node's world transform at a pose (identity for nodes outside the scene).
     pub fn node_worlds(&self, animation: Option<usize>, time: f32) -> Vec<Mat4> {
         let graph = &self.graph;
-        let mut local: Vec<Option<Trs>> = vec![None; graph.rest.len()];
+        // Per node, its place in `posed` (NOT_POSED: at rest): a herd's
+        // thousands of nodes cost a word each to clear, not a pose each.
+        const NOT_POSED: u32 = u32::MAX;
+        let mut slot = vec![NOT_POSED; graph.rest.len()];
+        let mut posed: Vec<Trs> = Vec::new();
         if let Some(a) = animation.and_then(|a| self.animations.get(a)) {
             let time = a.looped(time);
             // A herd's thousands of channels (each a search and a slerp) are
@@ -291,7 +295,11 @@ impl GltfScene {
                 let Some(rest) = graph.rest.get(c.node) else {
                     continue;
                 };
-                let trs = local[c.node].get_or_insert(rest.1);
+                if slot[c.node] == NOT_POSED {
+                    slot[c.node] = posed.len() as u32;
+                    posed.push(rest.1);
+                }
+                let trs = &mut posed[slot[c.node] as usize];
                 match c.path {
                     Path::Translation => trs.translation = v.truncate(),
                     Path::Rotation => trs.rotation = Quat::from_vec4(v).normalize(),
@@ -302,7 +310,10 @@ impl GltfScene {
         let mut world = vec![Mat4::IDENTITY; graph.rest.len()];
         for &(node, parent) in &graph.order {
             let rest = graph.rest[node].0;
-            let matrix = local[node].map_or(rest, |t| t.matrix());
+            let matrix = match slot[node] {
+                NOT_POSED => rest,
+                k => posed[k as usize].matrix(),
+            };
             let parent = parent.map_or(Mat4::IDENTITY, |p| world[p]);
             let posed = parent * matrix;
             world[node] = if posed.is_finite() {
