@@ -274,20 +274,47 @@ pub fn run_into(
         src_index_count: op.input.map_or(0, |m| m.indices.len() as u32),
         _pad: [0; 2],
     };
-    let (vertices, indices, _) = renderer.meshes.buffers();
-    let extras = renderer.meshes.extras();
+    let arena = ArenaStreams::of(renderer);
     let job = uniform(renderer, "geometry job", bytemuck::bytes_of(&job));
     let params = (!op.params.is_empty()).then(|| uniform(renderer, "geometry params", op.params));
-    let mut resources = vec![
-        ("vertices", vertices.as_entire_binding()),
-        ("extras", extras.as_entire_binding()),
-        ("indices", indices.as_entire_binding()),
-        ("job", job.as_entire_binding()),
-    ];
+    let mut resources = arena.bindings([("job", job.as_entire_binding())]);
     resources.extend(params.as_ref().map(|p| ("params", p.as_entire_binding())));
     resources.extend(op.extra);
     dispatch(renderer, &op.key, resources, op.threads)?;
     Ok(output)
+}
+
+/// The mesh arena's streams every geometry pass binds (shaders/lib/geometry.wgsl),
+/// taken after the pass's allocations: one may have grown the arena.
+pub(crate) struct ArenaStreams {
+    vertices: wgpu::Buffer,
+    extras: wgpu::Buffer,
+    indices: wgpu::Buffer,
+}
+
+impl ArenaStreams {
+    pub(crate) fn of(renderer: &Renderer) -> ArenaStreams {
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        ArenaStreams {
+            vertices,
+            extras: renderer.meshes.extras(),
+            indices,
+        }
+    }
+
+    /// The streams by the names the geometry library declares, then `more`.
+    pub(crate) fn bindings<'a>(
+        &'a self,
+        more: impl IntoIterator<Item = (&'a str, wgpu::BindingResource<'a>)>,
+    ) -> Vec<(&'a str, wgpu::BindingResource<'a>)> {
+        let mut resources = vec![
+            ("vertices", self.vertices.as_entire_binding()),
+            ("extras", self.extras.as_entire_binding()),
+            ("indices", self.indices.as_entire_binding()),
+        ];
+        resources.extend(more);
+        resources
+    }
 }
 
 /// A uniform buffer holding `bytes`.
@@ -316,22 +343,16 @@ pub(crate) fn dispatch(
 }
 
 /// The steps of a multi-pass operation, in order: one [`dispatch`] per
-/// (permutation, threads), each binding the arena's vertices and indices
-/// and `bindings`, by name.
+/// (permutation, threads), each binding the arena's streams
+/// ([`ArenaStreams`]) and `bindings`, by name.
 pub(crate) fn dispatch_steps(
     renderer: &Renderer,
     steps: &[(ShaderKey, u32)],
     bindings: &[(&str, &wgpu::Buffer)],
 ) -> Result<(), RenderError> {
-    let (vertices, indices, _) = renderer.meshes.buffers();
-    let extras = renderer.meshes.extras();
+    let arena = ArenaStreams::of(renderer);
     for (key, threads) in steps {
-        let mut resources = vec![
-            ("vertices", vertices.as_entire_binding()),
-            ("extras", extras.as_entire_binding()),
-            ("indices", indices.as_entire_binding()),
-        ];
-        resources.extend(
+        let resources = arena.bindings(
             bindings
                 .iter()
                 .map(|(b, buf)| (*b, buf.as_entire_binding())),

@@ -26,37 +26,44 @@ pub fn read_storage(
     crate::renderer::read_buffer(gpu, &staging, size)
 }
 
+/// Items `range` of `buffer`, a stream of the mesh arena holding `T`s.
+fn read_range<T: bytemuck::Pod>(
+    renderer: &Renderer,
+    buffer: &wgpu::Buffer,
+    range: std::ops::Range<u32>,
+) -> Result<Vec<T>, RenderError> {
+    let size = std::mem::size_of::<T>();
+    let bytes = read_storage(
+        renderer,
+        buffer,
+        u64::from(range.start) * size as u64,
+        (range.len() * size) as u64,
+    )?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes[..range.len() * size]))
+}
+
+/// An error unless `mesh` is stored in the arena (particles are drawn
+/// procedurally: `instead` says what reads them).
+fn stored(mesh: &GpuMesh, instead: &str) -> Result<(), RenderError> {
+    if mesh.is_procedural() {
+        return Err(RenderError::Pass {
+            pass: "mesh readback".to_owned(),
+            message: format!("the mesh is drawn procedurally (particles): {instead}"),
+        });
+    }
+    Ok(())
+}
+
 /// A GPU mesh's vertices and (mesh-relative) indices.
 pub fn read_mesh(
     renderer: &Renderer,
     mesh: &GpuMesh,
 ) -> Result<(Vec<GpuVertex>, Vec<u32>), RenderError> {
-    if mesh.is_procedural() {
-        return Err(RenderError::Pass {
-            pass: "mesh readback".to_owned(),
-            message:
-                "the mesh is drawn procedurally (particles): read it with particles::read_drawn"
-                    .to_owned(),
-        });
-    }
+    stored(mesh, "read it with particles::read_drawn")?;
     let (vertices, indices, _) = renderer.meshes.buffers();
-    let vertex_size = std::mem::size_of::<GpuVertex>() as u64;
-    let v = read_storage(
-        renderer,
-        &vertices,
-        u64::from(mesh.vertices.start) * vertex_size,
-        mesh.vertices.len() as u64 * vertex_size,
-    )?;
-    let i = read_storage(
-        renderer,
-        &indices,
-        u64::from(mesh.indices.start) * 4,
-        mesh.indices.len() as u64 * 4,
-    )?;
-    let vertex_bytes = mesh.vertices.len() * vertex_size as usize;
     Ok((
-        bytemuck::pod_collect_to_vec(&v[..vertex_bytes]),
-        bytemuck::pod_collect_to_vec(&i[..mesh.indices.len() * 4]),
+        read_range(renderer, &vertices, mesh.vertices.clone())?,
+        read_range(renderer, &indices, mesh.indices.clone())?,
     ))
 }
 
@@ -65,21 +72,6 @@ pub fn read_extras(
     renderer: &Renderer,
     mesh: &GpuMesh,
 ) -> Result<Vec<GpuVertexExtra>, RenderError> {
-    if mesh.is_procedural() {
-        return Err(RenderError::Pass {
-            pass: "mesh readback".to_owned(),
-            message: "the mesh is drawn procedurally (particles): its corners store no extras"
-                .to_owned(),
-        });
-    }
-    let size = std::mem::size_of::<GpuVertexExtra>() as u64;
-    let bytes = read_storage(
-        renderer,
-        &renderer.meshes.extras(),
-        u64::from(mesh.vertices.start) * size,
-        mesh.vertices.len() as u64 * size,
-    )?;
-    Ok(bytemuck::pod_collect_to_vec(
-        &bytes[..mesh.vertices.len() * size as usize],
-    ))
+    stored(mesh, "its corners store no extras")?;
+    read_range(renderer, &renderer.meshes.extras(), mesh.vertices.clone())
 }

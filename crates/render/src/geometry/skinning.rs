@@ -16,7 +16,7 @@ use std::sync::Arc;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::{Work, dispatch_as};
+use super::{ArenaStreams, Work, dispatch_as};
 use crate::error::RenderError;
 use crate::mesh::deform::{Deform, DeformPose, MAX_INFLUENCES, UNSKINNED};
 use crate::mesh_arena::{GpuMesh, MeshLayout};
@@ -312,8 +312,7 @@ pub fn deform(
         outputs.push(output);
     }
     // After every allocation: one may have grown the arena.
-    let (vertices, indices, _) = renderer.meshes.buffers();
-    let extras = renderer.meshes.extras();
+    let arena = ArenaStreams::of(renderer);
     let buffers = &mut source.pose;
     let work = written(
         renderer,
@@ -346,17 +345,14 @@ pub fn deform(
     dispatch_as(
         renderer,
         &SkinningKey.key(),
-        vec![
-            ("vertices", vertices.as_entire_binding()),
-            ("extras", extras.as_entire_binding()),
-            ("indices", indices.as_entire_binding()),
+        arena.bindings([
             ("work", work.as_entire_binding()),
             ("jobs", jobs_buffer.as_entire_binding()),
             ("palette", palette.as_entire_binding()),
             ("influences", source.influences.as_entire_binding()),
             ("targets", source.targets.as_entire_binding()),
             ("morph_weights", weights.as_entire_binding()),
-        ],
+        ]),
         threads,
         Work::Skinning,
     )?;
