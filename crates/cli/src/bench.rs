@@ -245,14 +245,23 @@ struct Series {
 }
 
 impl Series {
-    /// The figures of one frame: its recording thread's CPU `cpu` (waits
-    /// left out) and what the report says of the submission thread.
-    fn push_threads(&mut self, cpu: f64, timings: &GraphTimings) {
+    /// The CPU figures of one frame that took `step_ms` on the clock, with
+    /// every Output's graph `timings`: its CPU is the step without the
+    /// waits for the GPU and for the submission thread (counted apart),
+    /// split into evaluation and recording. Returns the CPU.
+    fn push_frame(&mut self, step_ms: f64, timings: &GraphTimings) -> f64 {
+        let cpu = (step_ms - timings.wait_ms - timings.submission_wait_ms).max(0.0);
+        self.cpu.push(cpu);
+        self.record.push(timings.record_ms);
+        self.submit.push(timings.submit_ms);
+        self.queue_submit.push(timings.queue_submit_ms);
+        self.eval.push((cpu - timings.record_ms).max(0.0));
         self.submission_wait.push(timings.submission_wait_ms);
         let thread = timings.submission_thread_ms;
         self.submission_thread.extend(thread);
         self.total.push(cpu + thread.unwrap_or(0.0));
         self.critical.push(cpu + timings.submission_wait_ms);
+        cpu
     }
 }
 
@@ -297,18 +306,10 @@ fn wall_clock(
             bail!("frame {frame} failed (errors above)");
         }
         if k >= args.warmup {
-            // Every Output's graph, not only the last one's.
+            // Every Output's graph, not only the last one's; without the
+            // wait for a frame in flight to finish.
             let timings = renderer.take_graph_timings();
-            // Without the wait for a frame in flight to finish, nor those
-            // for the submission thread (counted apart).
-            let ms =
-                (step.elapsed().as_secs_f64() * 1e3 - timings.wait_ms - timings.submission_wait_ms)
-                    .max(0.0);
-            cpu.cpu.push(ms);
-            cpu.push_threads(ms, &timings);
-            cpu.record.push(timings.record_ms);
-            cpu.submit.push(timings.submit_ms);
-            cpu.eval.push((ms - timings.record_ms).max(0.0));
+            cpu.push_frame(step.elapsed().as_secs_f64() * 1e3, &timings);
         }
     }
     renderer.wait_idle()?;
@@ -456,13 +457,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         // last one's: what `report` holds.
         let timings = renderer.take_graph_timings();
         // CPU: evaluating the patch and recording the frame, without the
-        // wait for the GPU, nor those for the submission thread (counted apart).
-        let cpu = (wall_ms - timings.wait_ms - timings.submission_wait_ms).max(0.0);
-        series.cpu.push(cpu);
-        series.push_threads(cpu, &timings);
-        series.record.push(timings.record_ms);
-        series.submit.push(timings.submit_ms);
-        series.queue_submit.push(timings.queue_submit_ms);
+        // wait for the GPU.
+        series.push_frame(wall_ms, &timings);
         series.plans_reused += report.counter("plans reused");
         series.plans_made += report.counter("plans made");
         series.pipelines_kept += report.counter("pipelines kept");
@@ -470,7 +466,6 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         series.bind_groups_created += report.counter("bind groups created");
         // Which effects ran at half resolution (the last timed frame's).
         half_effects = HALF_COUNTERS.map(|(effect, counter)| (effect, report.counter(counter)));
-        series.eval.push((cpu - timings.record_ms).max(0.0));
         node_cpu.push(session.runtime.stats());
         if let Some(span) = timings.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
