@@ -98,6 +98,8 @@ impl Node for MaterialBufferNode {
                 ),
             ));
         }
+        // A Texture ID with no array to index would be read as "no
+        // texture" without a word: say which material and feature asks.
         if textures.is_empty()
             && let Some((id, feature, layer)) = materials.iter().enumerate().find_map(|(id, m)| {
                 m.features().find_map(|(f, _)| {

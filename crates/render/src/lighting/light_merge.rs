@@ -58,48 +58,19 @@ pub fn light_merge(distance: f32) -> f32 {
 }
 
 /// Point lights with their cubes' merged lights after them, and each one's
-/// band: the centroid of its cube and +D for a member (listed nearer than D),
-/// -D for a merged light (listed at D or farther), zeros for a light that is
-/// not merged (listed wherever it reaches).
+/// band: the centroid of its cube and +D for a member (shaded at pixels
+/// nearer than D), -D for a merged light (at D or farther), zeros for a light
+/// that is not merged (wherever it reaches).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Merged {
+struct Merged {
     lights: Vec<GpuLight>,
     bands: Vec<[f32; 4]>,
     /// How many merged lights follow the originals.
     cubes: usize,
 }
 
-impl Merged {
-    /// The merged lights (after the originals), as positions, intensities and ranges.
-    pub fn merged_lights(&self) -> impl Iterator<Item = (Vec3, Vec3, f32)> + '_ {
-        self.lights[self.lights.len() - self.cubes..]
-            .iter()
-            .map(|l| {
-                let p = l.position_range;
-                (
-                    Vec3::new(p[0], p[1], p[2]),
-                    Vec3::new(l.intensity[0], l.intensity[1], l.intensity[2]),
-                    p[3],
-                )
-            })
-    }
-
-    /// Light `index`'s band: the centroid and the signed distance.
-    pub fn band(&self, index: usize) -> [f32; 4] {
-        self.bands[index]
-    }
-
-    pub fn len(&self) -> usize {
-        self.lights.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.lights.is_empty()
-    }
-}
-
 /// Merges `lights` (point lights as uploaded) at `distance` ([`light_merge`]).
-pub(super) fn merge(lights: &[GpuLight], distance: f32) -> Merged {
+fn merge(lights: &[GpuLight], distance: f32) -> Merged {
     let mut bands = vec![[0.0; 4]; lights.len()];
     let mut merged = lights.to_vec();
     let distance = light_merge(distance);
@@ -257,8 +228,11 @@ mod tests {
             point([5.5, 0.5, 0.5], [1.0, 0.0, 0.0], 5.0, -1.0),
         ];
         let m = merge(&lights, 2.0);
-        assert_eq!((m.len(), m.cubes), (5, 1));
-        let (centroid, intensity, reach) = m.merged_lights().next().unwrap();
+        assert_eq!((m.lights.len(), m.cubes), (5, 1));
+        let merged = m.lights[4];
+        let centroid = Vec3::from_slice(&merged.position_range[..3]);
+        let intensity = Vec3::from_slice(&merged.intensity[..3]);
+        let reach = merged.position_range[3];
         assert_eq!(intensity, Vec3::new(4.0, 6.0, 4.0), "the sum of the three");
         // Luminance-weighted: light 1 weighs 3, light 0 weighs 1, light 2 0.7152 * 2.
         let w = [1.0, 3.0, 0.7152 * 2.0];
@@ -276,14 +250,14 @@ mod tests {
             .fold(0.0, f32::max);
         assert!((reach - far).abs() < 1e-5);
         for k in 0..3 {
-            assert_eq!(m.band(k), centroid.extend(2.0).to_array(), "member {k}");
+            assert_eq!(m.bands[k], centroid.extend(2.0).to_array(), "member {k}");
         }
         assert_eq!(
-            m.band(4),
+            m.bands[4],
             centroid.extend(-2.0).to_array(),
             "the merged light"
         );
-        assert_eq!(m.band(3), [0.0; 4], "a cube of one is not merged");
+        assert_eq!(m.bands[3], [0.0; 4], "a cube of one is not merged");
         assert_eq!(
             &m.lights[..4],
             &lights[..],
@@ -303,7 +277,7 @@ mod tests {
         ];
         let m = merge(&lights, 2.0);
         assert_eq!(m.cubes, 0, "one mergeable light is a cube of one");
-        assert!((0..6).all(|k| m.band(k) == [0.0; 4]));
+        assert!((0..6).all(|k| m.bands[k] == [0.0; 4]));
         assert_eq!(merge(&lights, 0.0).cubes, 0);
     }
 
@@ -319,7 +293,7 @@ mod tests {
         ];
         let m = merge(&lights, 2.0);
         assert_eq!(m.cubes, 0, "{m:?}");
-        assert!((0..4).all(|k| m.band(k) == [0.0; 4]));
+        assert!((0..4).all(|k| m.bands[k] == [0.0; 4]));
     }
 
     #[test]
