@@ -74,13 +74,24 @@ impl ViewSpec {
     }
 }
 
+/// Graph runs a view, or an output's last texture, is kept while no graph
+/// asks for it. A patch with several Outputs runs one graph per Output each
+/// frame, and each graph must find next frame what it used this frame: when
+/// each run dropped what it did not use itself, the graphs of a patch with
+/// seven Outputs made their views, and so their bind groups, again every
+/// frame. The kept bind groups keep plans as long (`kept_bindings.rs`).
+pub(crate) const IDLE_GRAPHS: u64 = 8;
+
 /// Each texture's views, made once: views are what passes bind, and making
 /// one per pass per frame was most of a frame's recording time on the H100's
-/// driver (and a new view is a new bind group). A view not asked for in a
-/// frame is dropped (with the texture it keeps alive).
+/// driver (and a new view is a new bind group). A view no graph asked for in
+/// the last [`IDLE_GRAPHS`] runs is dropped (with the texture it keeps alive).
 #[derive(Default)]
 pub(crate) struct ViewCache {
-    views: FxHashMap<(wgpu::Texture, ViewSpec), (wgpu::TextureView, bool)>,
+    /// Each view and the graph run that last asked for it.
+    views: FxHashMap<(wgpu::Texture, ViewSpec), (wgpu::TextureView, u64)>,
+    /// Graph runs ended.
+    graphs: u64,
     pub created: u64,
     pub reused: u64,
 }
@@ -93,19 +104,21 @@ impl ViewCache {
     pub fn view_of(&mut self, texture: &wgpu::Texture, spec: ViewSpec) -> wgpu::TextureView {
         let key = (texture.clone(), spec);
         if let Some((view, used)) = self.views.get_mut(&key) {
-            *used = true;
+            *used = self.graphs;
             self.reused += 1;
             return view.clone();
         }
         let view = texture.create_view(&spec.descriptor());
         self.created += 1;
-        self.views.insert(key, (view.clone(), true));
+        self.views.insert(key, (view.clone(), self.graphs));
         view
     }
 
-    /// Drop what this frame did not use; the rest waits for the next frame.
+    /// Drop what no graph used lately; the rest waits for the next frame.
     pub fn end_frame(&mut self) {
-        self.views.retain(|_, (_, used)| std::mem::take(used));
+        let now = self.graphs;
+        self.views.retain(|_, (_, used)| now - *used <= IDLE_GRAPHS);
+        self.graphs += 1;
     }
 }
 
@@ -118,12 +131,14 @@ pub(crate) struct TexturePool {
     /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
     pub lent: Vec<(TextureKey, wgpu::Texture)>,
     pub views: ViewCache,
-    /// The texture each pass output ([`slot`]) was given last, and whether
-    /// it was asked for this frame. An output gets the same texture again
+    /// The texture each pass output ([`slot`]) was given last, and the graph
+    /// run that asked for it (kept [`IDLE_GRAPHS`] runs). An output gets the same texture again
     /// while it is free: a stack alone hands textures of one key out in a
     /// different order each frame (those returned last are taken first), and
     /// a pass that binds other textures than last frame makes new bind groups.
-    last: FxHashMap<u64, (wgpu::Texture, bool)>,
+    last: FxHashMap<u64, (wgpu::Texture, u64)>,
+    /// Graph runs ended.
+    graphs: u64,
     /// Textures kept out of the pool until the frame ends (see [`Self::hold_for`]).
     held: Vec<(TextureKey, wgpu::Texture)>,
 }
@@ -152,9 +167,9 @@ impl TexturePool {
             create_texture(device, key, name)
         });
         match last {
-            Some(last) => *last = (texture.clone(), true),
+            Some(last) => *last = (texture.clone(), self.graphs),
             None => {
-                self.last.insert(slot, (texture.clone(), true));
+                self.last.insert(slot, (texture.clone(), self.graphs));
             }
         }
         texture
@@ -178,13 +193,15 @@ impl TexturePool {
         self.pool.entry(key).or_default().push(texture);
     }
 
-    /// Forget the names this frame did not use (a node deleted, an effect
+    /// Forget the outputs no graph used lately (a node deleted, an effect
     /// switched off): their textures stay pooled, unclaimed.
     pub fn end_frame(&mut self) {
         for (key, texture) in std::mem::take(&mut self.held) {
             self.give_back(key, texture);
         }
-        self.last.retain(|_, (_, used)| std::mem::take(used));
+        let now = self.graphs;
+        self.last.retain(|_, (_, used)| now - *used <= IDLE_GRAPHS);
+        self.graphs += 1;
     }
 }
 

@@ -462,6 +462,67 @@ fn a_skipped_pass_passes_its_input_on_and_is_counted() {
 }
 
 #[test]
+fn a_shader_node_binds_last_frames_uniform_and_groups_again_beside_another_output() {
+    // Two Outputs, so two frame graphs a frame; both read the noise, which
+    // is made again every frame (its uniform holds the time).
+    let mut patch = Patch::default();
+    noise_into(&mut patch, 1);
+    patch.add(NodeDoc::new(2, "EdgeDetect (Shader)"));
+    patch.add(output(3, "edges"));
+    patch.add(output(4, "noise"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(2, "Texture", 3, "Texture");
+    patch.link(1, "Texture", 4, "Texture");
+    let mut rig = Rig::new(crate::registry(), &patch);
+    rig.step();
+    let first = mean(&rig.image("edges"));
+    for _ in 0..3 {
+        rig.step();
+    }
+    let report = rig.step();
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let shader_passes = (report.passes.iter())
+        .filter(|p| p.kind.ends_with("(Shader)"))
+        .count() as u64;
+    assert!(shader_passes >= 1, "{:?}", report.passes);
+    // One group a pass, last frame's; the same views; each uniform either
+    // unchanged (not written) or written in place.
+    assert_eq!(
+        report.counter("bind groups kept"),
+        shader_passes,
+        "{:?}",
+        report.counters
+    );
+    assert_eq!(
+        report.counter("texture views created"),
+        0,
+        "{:?}",
+        report.counters
+    );
+    assert_eq!(
+        report.counter("uniform uploads") + report.counter("uniform uploads skipped"),
+        shader_passes,
+        "{:?}",
+        report.counters
+    );
+    // A pin changed: its uniform is written, and the picture follows.
+    set(
+        &mut rig,
+        &mut patch,
+        2,
+        "Strength",
+        Spread::Float(vec![0.0]),
+    );
+    rig.step();
+    let dark = mean(&rig.image("edges"));
+    assert!(
+        first[0] > 1e-3 && dark[0].abs() < 1e-6,
+        "{first:?} {dark:?}"
+    );
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+}
+
+#[test]
 fn each_used_permutation_compiles_once_and_is_counted() {
     // Three slices, two inverted: the default permutation and INVERT.
     let (mut rig, report) = through(

@@ -245,7 +245,7 @@ impl PassContext<'_> {
         let given: SmallVec<[(&str, Given<'_>); INLINE_BINDINGS]> =
             owned.iter().map(|(name, r)| (*name, r.given())).collect();
         let call = GroupsCall {
-            key,
+            key: Some(key),
             entries,
             pipeline,
             resources: &given,
@@ -260,6 +260,36 @@ impl PassContext<'_> {
         match &mut self.kept {
             Some(kept) => Ok(kept.groups(&call, resolve)?.0),
             None => resolve(),
+        }
+    }
+
+    /// Bind groups the caller lays out itself (a user's shader file numbers
+    /// its own bindings: shader_nodes/recipe.rs), kept as
+    /// [`PassContext::bind_groups`] keeps its: the ones this pass's call got
+    /// in one of the last frames when `pipeline` and every resource of
+    /// `bindings` (by name and identity) are the same, else `make()`'s.
+    pub fn bind_groups_made(
+        &mut self,
+        entry: &str,
+        pipeline: &wgpu::ComputePipeline,
+        bindings: Bindings<'_>,
+        make: impl FnOnce() -> BindGroups,
+    ) -> Result<BindGroups, RenderError> {
+        let (owned, prebuilt) = self.resolve_bindings(bindings)?;
+        let given: SmallVec<[(&str, Given<'_>); INLINE_BINDINGS]> =
+            owned.iter().map(|(name, r)| (*name, r.given())).collect();
+        let pipeline = PipelineRef::Compute(pipeline.clone());
+        let call = GroupsCall {
+            key: None,
+            entries: &[entry],
+            pipeline: &pipeline,
+            resources: &given,
+            prebuilt: &prebuilt,
+        };
+        let made = || Ok::<_, RenderError>(make());
+        match &mut self.kept {
+            Some(kept) => Ok(kept.groups(&call, made)?.0),
+            None => made(),
         }
     }
 

@@ -31,6 +31,11 @@
 use smallvec::SmallVec;
 
 use crate::shaders::{BindGroups, INLINE_BINDINGS, PipelineRef, ShaderKey};
+// Graph runs (`begin`s) a plan's calls are kept while no run takes it: a
+// host running a few graphs in turns (a patch with two Outputs) keeps each
+// one's, and the calls of a plan left behind (a resized output) let go of
+// what they hold soon after. The views and textures they bind are kept as long.
+use crate::texture_pool::IDLE_GRAPHS;
 
 /// Frame report counters: pipelines and bind groups a dispatch took from
 /// what it resolved last frame.
@@ -60,12 +65,6 @@ struct PlanCalls {
     passes: Vec<PassCalls>,
 }
 
-/// Frames a plan's calls are kept while no frame takes it: a host running
-/// a few graphs in turns (a patch with two Outputs) keeps each one's, and
-/// the calls of a plan left behind (a resized output) let go of what they
-/// hold soon after.
-const IDLE_FRAMES: u64 = 8;
-
 impl Default for KeptBindings {
     fn default() -> Self {
         KeptBindings {
@@ -92,7 +91,7 @@ impl KeptBindings {
             return;
         }
         self.plans
-            .retain(|p| p.generation == generation && frame - p.last <= IDLE_FRAMES);
+            .retain(|p| p.generation == generation && frame - p.last <= IDLE_GRAPHS);
         if !reused {
             return;
         }
@@ -205,7 +204,9 @@ impl Given<'_> {
 
 /// What one call bound and the groups it got.
 struct KeptGroups {
-    key: ShaderKey,
+    /// None for groups a caller laid out itself (a shader node's, by its
+    /// file's numbers): the pipeline, compared by identity, names its shader.
+    key: Option<ShaderKey>,
     /// The entry points, each followed by a NUL (no allocation a frame: the
     /// text is refilled in place when a call changes).
     entries: String,
@@ -219,7 +220,7 @@ struct KeptGroups {
 
 /// A call of this frame, to compare with last frame's.
 pub(crate) struct GroupsCall<'c, 'r> {
-    pub key: &'c ShaderKey,
+    pub key: Option<&'c ShaderKey>,
     pub entries: &'c [&'c str],
     pub pipeline: &'c PipelineRef,
     pub resources: &'c [(&'r str, Given<'c>)],
@@ -240,7 +241,7 @@ fn same_entries(kept: &str, entries: &[&str]) -> bool {
 impl KeptGroups {
     fn matches(&self, call: &GroupsCall<'_, '_>) -> bool {
         self.pipeline == *call.pipeline
-            && self.key == *call.key
+            && self.key.as_ref() == call.key
             && same_entries(&self.entries, call.entries)
             && self.resources.len() == call.resources.len()
             && self
@@ -261,8 +262,8 @@ impl KeptGroups {
     /// This call's inputs and `groups`, written over the kept ones (their
     /// text and inline storage reused).
     fn refill(&mut self, call: &GroupsCall<'_, '_>, groups: &BindGroups) {
-        if self.key != *call.key {
-            self.key = call.key.clone();
+        if self.key.as_ref() != call.key {
+            self.key = call.key.cloned();
         }
         if !same_entries(&self.entries, call.entries) {
             self.entries.clear();
@@ -287,7 +288,7 @@ impl KeptGroups {
 
     fn new(call: &GroupsCall<'_, '_>, groups: &BindGroups) -> Self {
         let mut kept = KeptGroups {
-            key: call.key.clone(),
+            key: call.key.cloned(),
             entries: String::new(),
             pipeline: call.pipeline.clone(),
             names: String::new(),

@@ -48,6 +48,9 @@ pub struct PassPlan {
     pub workgroup: [u32; 3],
     /// The bindings the entry point uses: (binding, role).
     pub bindings: Vec<(u32, Role)>,
+    /// Per binding, a name unique in the pass: what the frame graph's kept
+    /// bind groups compare a resource under from frame to frame.
+    pub binding_names: Vec<String>,
     /// Index of the Bool pin (in [`Program::bool_pins`] order) that skips it.
     pub skip: Option<String>,
 }
@@ -297,10 +300,17 @@ impl Program {
                     )));
                 }
             }
+            let binding_names = (pass_bindings.iter())
+                .map(|(binding, role)| match role {
+                    Role::Materials(_) => format!("materials {binding}"),
+                    _ => format!("binding {binding}"),
+                })
+                .collect();
             let plan = PassPlan {
                 decl: decl.clone(),
                 workgroup: entry.workgroup_size,
                 bindings: pass_bindings,
+                binding_names,
                 skip: decl.skip.clone(),
             };
             if plan.skip.is_some()

@@ -13,12 +13,12 @@ use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use wgpu::util::DeviceExt;
-
 use super::program::{Builtin, PassPlan, Program, Role};
 use super::utility;
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc};
+use crate::frame_graph::{
+    BindGroups, Bindings, FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc,
+};
 use crate::gbuffer::GBuffer;
 use crate::material::MaterialWorld;
 use crate::material::library::LibraryBinding;
@@ -55,6 +55,8 @@ enum Source {
 
 /// One dispatch (a pass, or one iteration of it) with everything resolved.
 struct Step {
+    /// Its place among the recipe's steps (which kept uniform it writes).
+    ordinal: u32,
     pass: usize,
     iteration: u32,
     /// Per destination: target index, its write number, size.
@@ -259,6 +261,7 @@ impl ShaderNodeRecipe {
                     current[d] = Some((Source::Version { target: d, write }, size));
                 }
                 steps.push(Step {
+                    ordinal: steps.len() as u32,
                     pass: index,
                     iteration,
                     dests,
@@ -287,7 +290,13 @@ impl ShaderNodeRecipe {
         })
     }
 
-    fn run(&self, cx: &mut PassContext<'_>, step: &Step, io: &StepIo) -> Result<(), RenderError> {
+    fn run(
+        &self,
+        renderer: &Renderer,
+        cx: &mut PassContext<'_>,
+        step: &Step,
+        io: &StepIo,
+    ) -> Result<(), RenderError> {
         let pass = &self.program.passes[step.pass];
         let device = cx.gpu.device.clone();
         let mut fresh = false;
@@ -331,21 +340,31 @@ impl ShaderNodeRecipe {
                     bytes[at..at + 4].copy_from_slice(&w.to_le_bytes());
                 }
             }
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(&self.type_name),
-                contents: &bytes,
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
+            // Kept under the node, one buffer per slice and step, written
+            // only when its bytes change, so the bind groups over it are
+            // kept too (`bind_groups_made`). Past 65,536 slices or steps, a
+            // new buffer each frame rather than one shared by two steps.
+            let kept = (self.inputs.slice < 1 << 16 && step.ordinal < 1 << 16)
+                .then_some(self.owner)
+                .flatten();
+            renderer.kept_init_at(
+                kept,
+                "shader node uniform",
+                self.inputs.slice << 16 | step.ordinal,
+                &bytes,
+                wgpu::BufferUsages::UNIFORM,
+            )
         });
         enum Bound {
             View(wgpu::TextureView),
             Buffer(wgpu::Buffer),
             Sampler(wgpu::Sampler),
         }
-        let mut bound: Vec<(u32, Bound)> = Vec::new();
+        // (binding, its name in the pass, resource).
+        let mut bound: Vec<(u32, &str, Bound)> = Vec::new();
         // Group 3: the material world (spreadlight::materials).
-        let mut world: Vec<(u32, Bound)> = Vec::new();
-        for (binding, role) in &pass.bindings {
+        let mut world: Vec<(u32, &str, Bound)> = Vec::new();
+        for ((binding, role), name) in pass.bindings.iter().zip(&pass.binding_names) {
             if let Role::Materials(what) = role {
                 let materials = self
                     .inputs
@@ -368,7 +387,7 @@ impl ShaderNodeRecipe {
                             .clone(),
                     ),
                 };
-                world.push((*binding, resource));
+                world.push((*binding, name, resource));
                 continue;
             }
             let resource = match role {
@@ -415,7 +434,7 @@ impl ShaderNodeRecipe {
                     Bound::View(cx.view(*tex)?)
                 }
             };
-            bound.push((*binding, resource));
+            bound.push((*binding, name, resource));
         }
         let program = self.program.clone();
         let pipeline = cx.shaders.external_compute_pipeline(
@@ -425,10 +444,10 @@ impl ShaderNodeRecipe {
             move || program.module.clone(),
             &pass.decl.entry,
         );
-        let group_of = |index: u32, bound: &[(u32, Bound)]| {
+        let group_of = |index: u32, bound: &[(u32, &str, Bound)]| {
             let entries: Vec<wgpu::BindGroupEntry<'_>> = bound
                 .iter()
-                .map(|(binding, b)| wgpu::BindGroupEntry {
+                .map(|(binding, _, b)| wgpu::BindGroupEntry {
                     binding: *binding,
                     resource: match b {
                         Bound::View(v) => wgpu::BindingResource::TextureView(v),
@@ -443,13 +462,25 @@ impl ShaderNodeRecipe {
                 entries: &entries,
             })
         };
-        let mut groups = vec![group_of(0, &bound)];
-        // A pass reading the world has a derived layout of four groups, the
-        // two between empty.
-        if !world.is_empty() {
-            groups.extend((1..crate::material::library::GROUP).map(|g| group_of(g, &[])));
-            groups.push(group_of(crate::material::library::GROUP, &world));
-        }
+        // What the groups hold, by name: last frame's groups are bound again
+        // when it is all the same (a still uniform, the same textures).
+        let held =
+            (bound.iter().chain(&world)).fold(Bindings::new(), |held, (_, name, b)| match b {
+                Bound::View(v) => held.view(name, v.clone()),
+                Bound::Buffer(b) => held.buffer(name, b),
+                Bound::Sampler(s) => held.sampler_object(name, s.clone()),
+            });
+        let groups = cx.bind_groups_made(&pass.decl.entry, &pipeline, held, || {
+            let mut groups = BindGroups::new();
+            groups.push(group_of(0, &bound));
+            // A pass reading the world has a derived layout of four groups,
+            // the two between empty.
+            if !world.is_empty() {
+                groups.extend((1..crate::material::library::GROUP).map(|g| group_of(g, &[])));
+                groups.push(group_of(crate::material::library::GROUP, &world));
+            }
+            groups
+        })?;
         let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
         let [wx, wy, _] = pass.workgroup;
         cx.dispatch(
@@ -653,7 +684,7 @@ impl Recipe for ShaderNodeRecipe {
             let io = names
                 .io(&declared)
                 .map_err(|e| RenderError::Graph(format!("{}: {e}", self.type_name)));
-            pass.run(move |cx| self.run(cx, &step, &io?));
+            pass.run(move |cx| self.run(renderer, cx, &step, &io?));
         }
         // Targets whose final content is not their last write: copy it under the target's name.
         for (t, source) in finals.iter().enumerate() {
