@@ -221,6 +221,21 @@ fn band_reaches(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
     let farthest = max(abs(band.xyz - lo), abs(hi - band.xyz));
     return dot(farthest, farthest) >= d2 * 0.999;
 }
+
+// Whether every point of the box [lo, hi] keeps a light of `band`, by a
+// margin the per-pixel test's rounding cannot cross: its farthest point
+// nearer than the merge distance (a member), its nearest point farther (the
+// merged light). Such a light's band becomes 0 for the block's pixels, and
+// each pixel still keeps the side it would have kept.
+fn band_holds_box(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let d2 = band.w * band.w;
+    if (band.w > 0.0) {
+        let farthest = max(abs(band.xyz - lo), abs(hi - band.xyz));
+        return dot(farthest, farthest) < d2 * 0.999;
+    }
+    let nearest = band.xyz - clamp(band.xyz, lo, hi);
+    return dot(nearest, nearest) >= d2 * 1.001;
+}
 #endif
 #endif
 @group(0) @binding(7) var<storage, read> surfaces: array<Surface>;
@@ -442,11 +457,22 @@ var<workgroup> batch_view: array<vec4<f32>, BATCH>;
 var<workgroup> batch_intensity: array<vec4<f32>, BATCH>;
 var<workgroup> batch_light: array<u32, BATCH>;
 #ifdef MERGED
+// Each survivor's band, 0 where the whole block lies on the side it keeps.
 var<workgroup> batch_band: array<vec4<f32>, BATCH>;
 #endif
 
 fn light_index(slot: u32) -> u32 {
     return batch_light[slot];
+}
+
+// Whether this pixel shades the survivor at `slot`: with MERGED, the side
+// of its band the pixel lies on (`band_keeps`); every survivor without.
+fn keeps_slot(slot: u32, p: vec3<f32>) -> bool {
+#ifdef MERGED
+    return band_keeps(batch_band[slot], p);
+#else
+    return true;
+#endif
 }
 
 fn light_radiance(slot: u32) -> vec3<f32> {
@@ -948,6 +974,10 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 #ifdef MERGED
                 band = view_bands[light];
                 survives = survives && band_reaches(band, lo, hi);
+                if (band_holds_box(band, lo, hi)) {
+                    // Every pixel of the block keeps it: no test per pixel.
+                    band.w = 0.0;
+                }
 #endif
                 if (survives) {
                     atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
@@ -977,32 +1007,26 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 #endif
             }
             workgroupBarrier();
-#ifdef MERGED
-            // A block across a band holds a cube's members and its merged
-            // light: each pixel keeps its side.
-            if (covered && slice == z) {
-                for (var slot = 0u; slot < survivors; slot++) {
-                    if (band_keeps(batch_band[slot], p)) {
-                        shade(slot, batch_view[slot], p, pw, surface, &sums);
-                    }
-                }
-            }
-#else
             if (covered && slice == z) {
                 // Two lights a step, their positions loaded together: the
-                // second's load and range test overlap the first's.
+                // second's load and range test overlap the first's. With
+                // MERGED, a block across a band holds a cube's members and
+                // its merged light: each pixel keeps its side.
                 var slot = 0u;
                 for (; slot + 1u < survivors; slot += 2u) {
                     let first = batch_view[slot];
                     let second = batch_view[slot + 1u];
-                    shade(slot, first, p, pw, surface, &sums);
-                    shade(slot + 1u, second, p, pw, surface, &sums);
+                    if (keeps_slot(slot, p)) {
+                        shade(slot, first, p, pw, surface, &sums);
+                    }
+                    if (keeps_slot(slot + 1u, p)) {
+                        shade(slot + 1u, second, p, pw, surface, &sums);
+                    }
                 }
-                if (slot < survivors) {
+                if (slot < survivors && keeps_slot(slot, p)) {
                     shade(slot, batch_view[slot], p, pw, surface, &sums);
                 }
             }
-#endif
             round++;
         }
     }
