@@ -10,6 +10,45 @@ use spreadlight_render::readback::ImageF32;
 
 pub mod float_compare;
 
+/// Set in a process [`ran_in_a_process_of_its_own`] started.
+const OWN_PROCESS: &str = "SPREADLIGHT_TEST_OWN_PROCESS";
+
+/// Runs `test` (its whole name, `file::test`) again in a process of the
+/// running test binary of its own, asserts that it passed there, and says
+/// whether this was the process that started it: the test is then done, and
+/// returns at once. In the process started, false: the test runs.
+///
+/// Why: Mesa's lavapipe (22.3, what CI runs) now and then crashes (SIGSEGV
+/// in libvulkan_lvp.so, on its queue thread) when a process renders fused
+/// light sets on a device after another device of the same process rendered
+/// them with its shader cache on: on the development machine the two
+/// fused-set tests of patches.rs crashed 7 times in 24 when run one after
+/// the other in one process, never in 16 runs each alone, and never in 16
+/// with `MESA_SHADER_CACHE_DISABLE=true` (session 29). Each in a process of
+/// its own keeps the cache, and its speed.
+pub fn ran_in_a_process_of_its_own(test: &str) -> bool {
+    if std::env::var_os(OWN_PROCESS).is_some() {
+        return false;
+    }
+    let out = std::process::Command::new(std::env::current_exe().expect("this test binary"))
+        .args([test, "--exact", "--nocapture", "--test-threads=1"])
+        .env(OWN_PROCESS, "1")
+        .output()
+        .expect("the test's own process runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{text}");
+    assert!(
+        out.status.success() && text.contains("1 passed"),
+        "{test} failed in its own process ({}):\n{text}",
+        out.status
+    );
+    true
+}
+
 /// The repository root (this crate lives in `tests/`).
 pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
