@@ -193,8 +193,11 @@ fn execute(
     };
     report.passes.reserve(plan.order.len());
     // Pool textures this frame took, by pass and output (the name is
-    // `plan.writes[p][output]`: not cloned a texture a frame).
-    let mut owned: Vec<(usize, usize, _, Lifetime, _)> = Vec::new();
+    // `plan.writes[p][output]`: not cloned a texture a frame), with the step
+    // after which a temporary goes back to the pool (None: at the frame's
+    // end), found once when it is taken: each pass then compares numbers,
+    // not every texture's name hashed three times.
+    let mut owned: Vec<(usize, usize, _, Option<usize>, _)> = Vec::new();
     let mut commands = Vec::new();
     let mut pass_queries: Vec<(usize, super::PassQueries)> = Vec::with_capacity(plan.order.len());
     let mut next_query = 0u32;
@@ -267,7 +270,12 @@ fn execute(
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
                     let slot = plan.slots[p][output];
-                    owned.push((p, output, *key, desc.lifetime, slot));
+                    let release = (desc.lifetime == Lifetime::Temporary
+                        && !requested.contains(name.as_str())
+                        && !watched.contains(name.as_str()))
+                    .then(|| last_use.get(name.as_str()).map(|&s| released_after(s)))
+                    .flatten();
+                    owned.push((p, output, *key, release, slot));
                     textures.take(device, key, (slot, name), &mut report.textures_created)
                 }
             };
@@ -434,15 +442,10 @@ fn execute(
         // Temporaries whose last reader has recorded go back to the pool, and
         // leave the live textures: no later pass can reach memory the pool
         // may hand to another.
-        owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
-            let name = &plan.writes[pass][output].0;
-            let done = lifetime == Lifetime::Temporary
-                && last_use
-                    .get(name.as_str())
-                    .is_some_and(|&s| released_after(s) <= step)
-                && !requested.contains(name.as_str())
-                && !watched.contains(name.as_str());
+        owned.retain(|&(pass, output, ref key, release, ref slot)| {
+            let done = release.is_some_and(|r| r <= step);
             if done {
+                let name = &plan.writes[pass][output].0;
                 let texture = live.remove(name);
                 match release_instead.remove(name) {
                     // Next frame the output takes the texture it gives back now.
