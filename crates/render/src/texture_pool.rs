@@ -114,6 +114,14 @@ impl ViewCache {
         view
     }
 
+    /// Drop `texture`'s views now: the frame graph let it go (a history
+    /// replaced at another size, dropped, or reset), and a kept view would
+    /// keep it alive for [`IDLE_GRAPHS`] more runs, one size after another
+    /// while a window is resized.
+    pub fn forget(&mut self, texture: &wgpu::Texture) {
+        self.views.retain(|(t, _), _| t != texture);
+    }
+
     /// Drop what no graph used lately; the rest waits for the next frame.
     pub fn end_frame(&mut self) {
         let now = self.graphs;
@@ -236,4 +244,50 @@ pub(crate) fn create_texture(
         usage: key.usage,
         view_formats: &[],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texture(device: &wgpu::Device, width: u32) -> wgpu::Texture {
+        let key = TextureKey {
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            width,
+            height: 4,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        };
+        create_texture(device, &key, "view cache test")
+    }
+
+    #[test]
+    fn a_view_stays_for_idle_graph_runs_unless_its_texture_is_let_go() {
+        let renderer = crate::renderer::test_renderer();
+        let device = &renderer.gpu.device;
+        let (kept, forgotten) = (texture(device, 4), texture(device, 8));
+        let mut views = ViewCache::default();
+        views.view(&kept);
+        views.view_of(&forgotten, ViewSpec::default());
+        views.view_of(&forgotten, ViewSpec::array());
+        views.forget(&forgotten);
+        assert_eq!(
+            views.views.len(),
+            1,
+            "both of its views go, the other stays"
+        );
+        // Another graph's runs, which ask for nothing: the view waits for them.
+        for _ in 0..IDLE_GRAPHS {
+            views.end_frame();
+        }
+        views.view(&kept);
+        assert_eq!((views.created, views.reused), (3, 1));
+        // The run that asked for it ends, then IDLE_GRAPHS runs that did
+        // not: it is kept; one more, and it goes.
+        for _ in 0..=IDLE_GRAPHS {
+            views.end_frame();
+        }
+        assert_eq!(views.views.len(), 1, "unused for IDLE_GRAPHS runs: kept");
+        views.end_frame();
+        assert!(views.views.is_empty(), "unused past IDLE_GRAPHS runs");
+    }
 }

@@ -263,7 +263,11 @@ fn execute(
                     _ => {
                         let t = create_texture(device, key, name);
                         report.textures_created += 1;
-                        textures.persistent.insert(name.clone(), (*key, t.clone()));
+                        if let Some((_, old)) =
+                            textures.persistent.insert(name.clone(), (*key, t.clone()))
+                        {
+                            views.borrow_mut().forget(&old);
+                        }
                         fresh.insert(name.clone());
                         t
                     }
@@ -675,7 +679,8 @@ fn execute(
     let mut dropped = 0;
     let pool = &mut *textures;
     let idle = &mut pool.idle;
-    pool.persistent.retain(|name, _| {
+    let views = &mut pool.views;
+    pool.persistent.retain(|name, (_, texture)| {
         if plan
             .order
             .iter()
@@ -690,6 +695,7 @@ fn execute(
         *frames += 1;
         if *frames > PERSISTENT_IDLE_GRAPHS {
             idle.remove(name.as_str());
+            views.forget(texture);
             dropped += 1;
             return false;
         }

@@ -341,6 +341,10 @@ impl Executor {
 
     /// Forget persistent textures (a camera cut or a resize resets history).
     pub fn reset_history(&self) {
-        self.texture_pool().persistent.clear();
+        let mut guard = self.texture_pool();
+        let pool = &mut *guard;
+        for (_, (_, texture)) in pool.persistent.drain() {
+            pool.views.forget(&texture);
+        }
     }
 }
