@@ -345,8 +345,9 @@ impl Renderer {
         buffer: &wgpu::Buffer,
         bytes: &[u8],
     ) {
-        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
+        // The kept buffers' lock first, then the counters', as everywhere.
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
         let entry = owner
             .and_then(|owner| kept.get_mut(&(owner, label, 0)))
             .filter(|k| k.buffer == *buffer);
