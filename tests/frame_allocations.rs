@@ -170,9 +170,6 @@ fn steady_frame(patch: &str) -> Frame {
 /// paths, a compute shadow raster for one, so counts there differ.)
 const BOUNDS: [(&str, u64); 2] = [("emeshe-frame.ron", 1_240), ("post.ron", 1_550)];
 
-/// Set in the process that counts (see below).
-const COUNTING: &str = "SPREADLIGHT_COUNTING_ALLOCATIONS";
-
 /// A debug build of wgpu-core captures a backtrace at every lock it takes
 /// when `std::backtrace` is enabled (`RUST_BACKTRACE=1`, as many shells
 /// set): allocations of the measurement, not of the frame. The count runs in
@@ -180,28 +177,10 @@ const COUNTING: &str = "SPREADLIGHT_COUNTING_ALLOCATIONS";
 /// whatever the caller's environment.
 #[test]
 fn a_frame_rendered_again_allocates_under_its_bound() {
-    if std::env::var_os(COUNTING).is_none() {
-        let out = std::process::Command::new(std::env::current_exe().expect("this test binary"))
-            .args([
-                "a_frame_rendered_again_allocates_under_its_bound",
-                "--exact",
-                "--nocapture",
-                "--test-threads=1",
-            ])
-            .env(COUNTING, "1")
-            .env("RUST_LIB_BACKTRACE", "0")
-            .output()
-            .expect("the counting process runs");
-        let text = format!(
-            "{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-        println!("{text}");
-        assert!(
-            out.status.success() && text.contains("1 passed"),
-            "the counting process failed:\n{text}"
-        );
+    if spreadlight_tests::ran_in_a_process_of_its_own_with(
+        "a_frame_rendered_again_allocates_under_its_bound",
+        &[("RUST_LIB_BACKTRACE", "0")],
+    ) {
         return;
     }
     spreadlight_render::allocation_count::count_with(here);

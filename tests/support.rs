@@ -27,12 +27,19 @@ const OWN_PROCESS: &str = "SPREADLIGHT_TEST_OWN_PROCESS";
 /// with `MESA_SHADER_CACHE_DISABLE=true` (session 29). Each in a process of
 /// its own keeps the cache, and its speed.
 pub fn ran_in_a_process_of_its_own(test: &str) -> bool {
+    ran_in_a_process_of_its_own_with(test, &[])
+}
+
+/// [`ran_in_a_process_of_its_own`] with `env` set in the process started
+/// (`frame_allocations.rs` counts with library backtraces off).
+pub fn ran_in_a_process_of_its_own_with(test: &str, env: &[(&str, &str)]) -> bool {
     if std::env::var_os(OWN_PROCESS).is_some() {
         return false;
     }
     let out = std::process::Command::new(std::env::current_exe().expect("this test binary"))
         .args([test, "--exact", "--nocapture", "--test-threads=1"])
         .env(OWN_PROCESS, "1")
+        .envs(env.iter().copied())
         .output()
         .expect("the test's own process runs");
     let text = format!(
