@@ -8,7 +8,7 @@
 
 use smallvec::SmallVec;
 
-use super::kept_bindings::{Given, GroupsCall};
+use super::kept_bindings::{Given, GroupsCall, PassCalls};
 use super::{PassContext, Tex};
 use crate::error::RenderError;
 use crate::shaders::{PipelineRef, Reflection, Sampling, ShaderKey};
@@ -183,6 +183,36 @@ fn as_resources<'a>(
         .collect()
 }
 
+/// The groups the pass's `kept` calls got in one of the last frames for a
+/// call that binds exactly what this one binds (kept_bindings.rs: the
+/// permutation `key`, None for groups a caller laid out itself, its
+/// `entries`, the pipeline, the resources by name and identity, groups made
+/// elsewhere), else `resolve()`'s, kept for next time; `resolve()`'s alone
+/// when calls are not kept.
+fn kept_or(
+    kept: &mut Option<&mut PassCalls>,
+    key: Option<&ShaderKey>,
+    entries: &[&str],
+    pipeline: &PipelineRef,
+    owned: &[(&str, Owned<'_>)],
+    prebuilt: &[(u32, wgpu::BindGroup)],
+    resolve: impl FnOnce() -> Result<BindGroups, RenderError>,
+) -> Result<BindGroups, RenderError> {
+    let Some(kept) = kept else {
+        return resolve();
+    };
+    let given: SmallVec<[(&str, Given<'_>); INLINE_BINDINGS]> =
+        owned.iter().map(|(name, r)| (*name, r.given())).collect();
+    let call = GroupsCall {
+        key,
+        entries,
+        pipeline,
+        resources: &given,
+        prebuilt,
+    };
+    Ok(kept.groups(&call, resolve)?.0)
+}
+
 /// A binding resolved to what wgpu binds.
 enum Owned<'r> {
     View(wgpu::TextureView),
@@ -242,25 +272,20 @@ impl PassContext<'_> {
         owned: &[(&str, Owned<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
     ) -> Result<BindGroups, RenderError> {
-        let given: SmallVec<[(&str, Given<'_>); INLINE_BINDINGS]> =
-            owned.iter().map(|(name, r)| (*name, r.given())).collect();
-        let call = GroupsCall {
-            key: Some(key),
-            entries,
-            pipeline,
-            resources: &given,
-            prebuilt,
-        };
         let shaders = &mut *self.shaders;
         let device = &self.gpu.device;
-        let mut resolve = || {
-            let resources = as_resources(owned);
-            shaders.named_groups(device, key, entries, pipeline, &resources, prebuilt)
-        };
-        match &mut self.kept {
-            Some(kept) => Ok(kept.groups(&call, resolve)?.0),
-            None => resolve(),
-        }
+        kept_or(
+            &mut self.kept,
+            Some(key),
+            entries,
+            pipeline,
+            owned,
+            prebuilt,
+            || {
+                let resources = as_resources(owned);
+                shaders.named_groups(device, key, entries, pipeline, &resources, prebuilt)
+            },
+        )
     }
 
     /// Bind groups the caller lays out itself (a user's shader file numbers
@@ -276,21 +301,16 @@ impl PassContext<'_> {
         make: impl FnOnce() -> BindGroups,
     ) -> Result<BindGroups, RenderError> {
         let (owned, prebuilt) = self.resolve_bindings(bindings)?;
-        let given: SmallVec<[(&str, Given<'_>); INLINE_BINDINGS]> =
-            owned.iter().map(|(name, r)| (*name, r.given())).collect();
         let pipeline = PipelineRef::Compute(pipeline.clone());
-        let call = GroupsCall {
-            key: None,
-            entries: &[entry],
-            pipeline: &pipeline,
-            resources: &given,
-            prebuilt: &prebuilt,
-        };
-        let made = || Ok::<_, RenderError>(make());
-        match &mut self.kept {
-            Some(kept) => Ok(kept.groups(&call, made)?.0),
-            None => made(),
-        }
+        kept_or(
+            &mut self.kept,
+            None,
+            &[entry],
+            &pipeline,
+            &owned,
+            &prebuilt,
+            || Ok(make()),
+        )
     }
 
     /// The compute pipeline of `entry` in permutation `key`: the one this
