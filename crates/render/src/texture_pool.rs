@@ -82,6 +82,15 @@ impl ViewSpec {
 /// frame. The kept bind groups keep plans as long (`kept_bindings.rs`).
 pub(crate) const IDLE_GRAPHS: u64 = 8;
 
+/// Drop the entries of `map` (each with the graph run that last asked for
+/// it) that no graph asked for in the last [`IDLE_GRAPHS`] runs, and count
+/// the run `graphs` ended.
+fn end_graph_run<K: Eq + std::hash::Hash, V>(map: &mut FxHashMap<K, (V, u64)>, graphs: &mut u64) {
+    let now = *graphs;
+    map.retain(|_, (_, used)| now - *used <= IDLE_GRAPHS);
+    *graphs += 1;
+}
+
 /// Each texture's views, made once: views are what passes bind, and making
 /// one per pass per frame was most of a frame's recording time on the H100's
 /// driver (and a new view is a new bind group). A view no graph asked for in
@@ -124,9 +133,7 @@ impl ViewCache {
 
     /// Drop what no graph used lately; the rest waits for the next frame.
     pub fn end_frame(&mut self) {
-        let now = self.graphs;
-        self.views.retain(|_, (_, used)| now - *used <= IDLE_GRAPHS);
-        self.graphs += 1;
+        end_graph_run(&mut self.views, &mut self.graphs);
     }
 }
 
@@ -207,9 +214,7 @@ impl TexturePool {
         for (key, texture) in std::mem::take(&mut self.held) {
             self.give_back(key, texture);
         }
-        let now = self.graphs;
-        self.last.retain(|_, (_, used)| now - *used <= IDLE_GRAPHS);
-        self.graphs += 1;
+        end_graph_run(&mut self.last, &mut self.graphs);
     }
 }
 
