@@ -205,6 +205,14 @@ fn band_keeps(band: vec4<f32>, p: vec3<f32>) -> bool {
     return (dot(offset, offset) < band.w * band.w) == (band.w > 0.0);
 }
 
+// The squared distances from `c` to the nearest (x) and the farthest (y)
+// point of the box [lo, hi].
+fn box_distances2(c: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec2<f32> {
+    let nearest = c - clamp(c, lo, hi);
+    let farthest = max(abs(c - lo), abs(hi - c));
+    return vec2<f32>(dot(nearest, nearest), dot(farthest, farthest));
+}
+
 // Whether some point of the box [lo, hi] keeps a light of `band` (the
 // block's cull of its list): `band_keeps` for its nearest point (a member)
 // or its farthest (the merged light), a little generous as the
@@ -214,12 +222,11 @@ fn band_reaches(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
         return true;
     }
     let d2 = band.w * band.w;
+    let to_box = box_distances2(band.xyz, lo, hi);
     if (band.w > 0.0) {
-        let nearest = band.xyz - clamp(band.xyz, lo, hi);
-        return dot(nearest, nearest) < d2 * 1.001;
+        return to_box.x < d2 * 1.001;
     }
-    let farthest = max(abs(band.xyz - lo), abs(hi - band.xyz));
-    return dot(farthest, farthest) >= d2 * 0.999;
+    return to_box.y >= d2 * 0.999;
 }
 
 // Whether every point of the box [lo, hi] keeps a light of `band`, by a
@@ -229,12 +236,11 @@ fn band_reaches(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
 // each pixel still keeps the side it would have kept.
 fn band_holds_box(band: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
     let d2 = band.w * band.w;
+    let to_box = box_distances2(band.xyz, lo, hi);
     if (band.w > 0.0) {
-        let farthest = max(abs(band.xyz - lo), abs(hi - band.xyz));
-        return dot(farthest, farthest) < d2 * 0.999;
+        return to_box.y < d2 * 0.999;
     }
-    let nearest = band.xyz - clamp(band.xyz, lo, hi);
-    return dot(nearest, nearest) >= d2 * 1.001;
+    return to_box.x >= d2 * 1.001;
 }
 #endif
 #endif
