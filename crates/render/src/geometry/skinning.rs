@@ -78,43 +78,67 @@ pub struct DeformSource {
     pose: PoseBuffers,
 }
 
-/// The buffers a pose writes (the dispatch's counts, its jobs, joint
-/// matrices and morph weights), kept and written in place: a herd posed
-/// every frame makes no buffers, and finds its bind group already made.
-/// The queue orders a write after the dispatches submitted before it, so
-/// the last pose's dispatch still reads the last pose.
+/// The buffer a pose writes: the dispatch's counts, its jobs, joint
+/// matrices and morph weights, each at an offset the device binds. It is
+/// kept and written in place by one write, so a herd posed every frame
+/// makes no buffer and stages one upload a pose, not four (wgpu stages
+/// each `write_buffer` in a buffer of its own: four were 6% of
+/// bench-skinning's main thread on the H200's host, session 30). The queue
+/// orders a write after the dispatches submitted before it, so the last
+/// pose's dispatch still reads the last pose.
 #[derive(Default)]
 struct PoseBuffers {
-    work: Option<wgpu::Buffer>,
-    jobs: Option<wgpu::Buffer>,
-    palette: Option<wgpu::Buffer>,
-    weights: Option<wgpu::Buffer>,
+    buffer: Option<wgpu::Buffer>,
 }
 
-/// `slot`'s buffer holding `bytes` at its start: written in place, or made
-/// anew (twice the size, so a growing herd makes few) when it is too small.
-fn written<'a>(
-    renderer: &Renderer,
-    slot: &'a mut Option<wgpu::Buffer>,
-    label: &str,
-    usage: wgpu::BufferUsages,
-    bytes: &[u8],
-) -> &'a wgpu::Buffer {
-    let size = bytes.len() as u64;
-    if slot.as_ref().is_none_or(|b| b.size() < size) {
-        // A binding may not be empty: at least 64 bytes.
-        *slot = Some(renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: size.next_power_of_two().max(64),
-            usage: usage | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }));
+/// The parts of [`PoseBuffers`]' buffer, in binding order.
+const POSE_PARTS: usize = 4;
+/// A binding may not be empty: an empty part takes this many zero bytes
+/// (a joint matrix, a job, sixteen weights).
+const MIN_PART: usize = 64;
+
+impl PoseBuffers {
+    /// Writes `parts` into the kept buffer (made anew when too small, at
+    /// twice the size, so a growing herd makes few) and returns each
+    /// part's binding, in order.
+    fn write<'a>(
+        &'a mut self,
+        renderer: &Renderer,
+        parts: [&[u8]; POSE_PARTS],
+    ) -> [wgpu::BindingResource<'a>; POSE_PARTS] {
+        let limits = renderer.gpu.device.limits();
+        let align = limits
+            .min_uniform_buffer_offset_alignment
+            .max(limits.min_storage_buffer_offset_alignment) as usize;
+        let mut bytes = Vec::new();
+        let ranges = parts.map(|part| {
+            bytes.resize(bytes.len().next_multiple_of(align), 0);
+            let start = bytes.len();
+            bytes.extend_from_slice(part);
+            bytes.resize(start + part.len().max(MIN_PART), 0);
+            (start as u64, (bytes.len() - start) as u64)
+        });
+        let size = bytes.len() as u64;
+        if self.buffer.as_ref().is_none_or(|b| b.size() < size) {
+            self.buffer = Some(renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("skinning pose"),
+                size: size.next_power_of_two(),
+                usage: wgpu::BufferUsages::UNIFORM
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        let buffer = self.buffer.as_ref().expect("made above");
+        renderer.gpu.queue.write_buffer(buffer, 0, &bytes);
+        ranges.map(|(offset, size)| {
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer,
+                offset,
+                size: std::num::NonZeroU64::new(size),
+            })
+        })
     }
-    let buffer = slot.as_ref().expect("made above");
-    if !bytes.is_empty() {
-        renderer.gpu.queue.write_buffer(buffer, 0, bytes);
-    }
-    buffer
 }
 
 impl std::fmt::Debug for DeformSource {
@@ -313,45 +337,25 @@ pub fn deform(
     }
     // After every allocation: one may have grown the arena.
     let arena = ArenaStreams::of(renderer);
-    let buffers = &mut source.pose;
-    let work = written(
+    let [work, jobs_buffer, palette, weights] = source.pose.write(
         renderer,
-        &mut buffers.work,
-        "skinning dispatch",
-        wgpu::BufferUsages::UNIFORM,
-        bytemuck::cast_slice(&[gpu_jobs.len() as u32, threads, 0, 0]),
-    );
-    let jobs_buffer = written(
-        renderer,
-        &mut buffers.jobs,
-        "skinning jobs",
-        wgpu::BufferUsages::STORAGE,
-        bytemuck::cast_slice(&gpu_jobs),
-    );
-    let palette = written(
-        renderer,
-        &mut buffers.palette,
-        "joint matrices",
-        wgpu::BufferUsages::STORAGE,
-        bytemuck::cast_slice(&palette),
-    );
-    let weights = written(
-        renderer,
-        &mut buffers.weights,
-        "morph weights",
-        wgpu::BufferUsages::STORAGE,
-        bytemuck::cast_slice(&weights),
+        [
+            bytemuck::cast_slice(&[gpu_jobs.len() as u32, threads, 0, 0]),
+            bytemuck::cast_slice(&gpu_jobs),
+            bytemuck::cast_slice(&palette),
+            bytemuck::cast_slice(&weights),
+        ],
     );
     dispatch_as(
         renderer,
         &SkinningKey.key(),
         arena.bindings([
-            ("work", work.as_entire_binding()),
-            ("jobs", jobs_buffer.as_entire_binding()),
-            ("palette", palette.as_entire_binding()),
+            ("work", work),
+            ("jobs", jobs_buffer),
+            ("palette", palette),
             ("influences", source.influences.as_entire_binding()),
             ("targets", source.targets.as_entire_binding()),
-            ("morph_weights", weights.as_entire_binding()),
+            ("morph_weights", weights),
         ]),
         threads,
         Work::Skinning,
