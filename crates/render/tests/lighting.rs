@@ -301,6 +301,45 @@ fn a_gpus_and_a_cpu_adapters_paths_draw_the_same_frame() {
 }
 
 #[test]
+fn lights_packed_64_a_workgroup_and_split_are_listed_as_a_workgroup_a_light_lists_them() {
+    // Made to take a GPU's paths on any adapter: from 512 lights the
+    // assignment packs 64 lights a workgroup and splits their (light,
+    // froxel) pairs among workgroups (clusters.rs, `Assignment`); below
+    // it, each light has workgroups of its own. Both walks read the lists,
+    // so both must sum what the naive loop sums, exactly and merged (whose
+    // far-reaching merged lights end the light list).
+    let gpu = GpuContext::headless()
+        .expect("GPU tests need a GPU adapter")
+        .with_adapter_class(AdapterClass::Gpu);
+    let renderer = Renderer::new(gpu).expect("a renderer");
+    let g = scene(&renderer);
+    for count in [600, 300] {
+        let lights = scattered(count);
+        let naive = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
+        let clustered = shade(&renderer, &g, lights.clone(), LightLoop::Clustered);
+        let worst = max_relative_difference(&clustered, &naive);
+        assert!(
+            worst < 1e-3,
+            "{count} lights differ from naive by up to {worst}"
+        );
+        assert!(
+            naive.pixels.iter().filter(|p| p[0] > 0.01).count() > 100,
+            "the lights light something"
+        );
+        // Merged, the two walks over the lists agree with each other.
+        let merged = |mode| shade_approximated(&renderer, &g, &lights, mode, 0.0, 1.0);
+        let ((clustered, did), (per_pixel, _)) =
+            (merged(LightLoop::Clustered), merged(LightLoop::PerPixel));
+        assert!(did, "{count} lights merge");
+        let worst = max_relative_difference(&clustered, &per_pixel);
+        assert!(
+            worst < 1e-3,
+            "{count} lights merged: the walks differ by up to {worst}"
+        );
+    }
+}
+
+#[test]
 fn clustered_shading_matches_the_naive_reference_past_one_round_of_the_froxel_scan() {
     // 11 x 3 tiles x 32 slices = 1,056 froxels; the scan sums 1,024 a
     // round and carries the total into the next.

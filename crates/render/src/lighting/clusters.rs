@@ -219,8 +219,67 @@ impl ClusterStore {
 /// one (post/transparency), so both walk lists made the same way. With
 /// `occupied` (a word per froxel, non-zero where a transparent fragment
 /// lies), only those froxels get lists, and the end slices are unbounded.
-/// The light assignment's steps, in the order [`assign_lights`] dispatches them.
-const ASSIGNMENT_STEPS: [&str; 4] = ["transform", "count", "scan", "fill"];
+/// How the count and fill steps spread the lights' froxels over workgroups.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Assignment {
+    /// A light's froxels shared among the 64 lanes of each of its
+    /// `workgroups` (clusters.wgsl's `count` and `fill`): few lights, each
+    /// of many froxels, still fill the GPU.
+    PerLight { workgroups: u32 },
+    /// 64 lights a workgroup, whose lanes share all their (light, froxel)
+    /// pairs (`count_packed`, `fill_packed`), split among `split`
+    /// workgroups: many lights of a few froxels each leave no lane idle.
+    Packed { split: u32 },
+}
+
+/// From this many lights a GPU's assignment packs 64 lights a workgroup.
+const PACKED_FROM: u32 = 512;
+
+impl Assignment {
+    /// Packed from [`PACKED_FROM`] lights on a GPU (64 on a CPU adapter,
+    /// where it saves workgroups, each a task with barriers), split so that
+    /// about `lights / 12` workgroups run, within 2,048..8,192. Measured on
+    /// the H200 (docs/benchmarks.md, "Session 30"): the assignment of 1,000
+    /// lights took 0.052 ms a workgroup a light and 0.029 packed, 100,000
+    /// 0.343 and 0.221, 1,000,000 2.96 and 1.65. Fewer workgroups left the
+    /// GPU waiting on a few (10,000 lights in 157 took 0.068 ms), more
+    /// repeated each one's packing for too few pairs.
+    fn of(lights: u32, clusters: u32, class: AdapterClass) -> Assignment {
+        let packed_from = match class {
+            AdapterClass::Gpu => PACKED_FROM,
+            AdapterClass::Cpu => 64,
+        };
+        if lights < packed_from {
+            return Assignment::PerLight {
+                workgroups: workgroups_per_light(lights, clusters, class),
+            };
+        }
+        let groups = lights.div_ceil(64);
+        let split = match class {
+            AdapterClass::Gpu => ((lights / 12).clamp(2_048, 8_192) / groups).clamp(1, 64),
+            AdapterClass::Cpu => 1,
+        };
+        Assignment::Packed { split }
+    }
+
+    /// The steps, in the order [`assign_lights`] dispatches them.
+    fn steps(self) -> [&'static str; 4] {
+        match self {
+            Assignment::PerLight { .. } => ["transform", "count", "scan", "fill"],
+            Assignment::Packed { .. } => ["transform", "count_packed", "scan", "fill_packed"],
+        }
+    }
+
+    /// The count and fill steps' workgroups for `lights` (x up to 65,535,
+    /// then y).
+    fn workgroups(self, lights: u32) -> (u32, u32, u32) {
+        let (groups, z) = match self {
+            Assignment::PerLight { workgroups } => (lights, workgroups),
+            Assignment::Packed { split } => (lights.div_ceil(64), split),
+        };
+        (groups.clamp(1, 65_535), groups.div_ceil(65_535).max(1), z)
+    }
+}
 
 /// Announce the pipelines of an assignment `pass` will run
 /// (frame_graph/gather.rs): `occupied` where it reads froxel marks, as
@@ -229,12 +288,15 @@ pub(crate) fn announce_assignment(
     pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
     occupied: bool,
     merged: bool,
+    lights: u32,
+    class: AdapterClass,
 ) {
     if !pass.graph().gathers_pipelines() {
         return;
     }
     let key = ClustersKey { occupied, merged }.key();
-    for step in ASSIGNMENT_STEPS {
+    // The steps do not depend on the grid (only how many workgroups run them).
+    for step in Assignment::of(lights, 1, class).steps() {
         pass.will_dispatch(&key, step);
     }
 }
@@ -266,8 +328,9 @@ pub(crate) fn assign_lights(
     .key();
     // Only the clustered walk runs this pass; the naive loop moves its
     // few lights to view space itself.
+    let assignment = Assignment::of(count, grid.clusters(), cx.gpu.adapter_class());
     let mut work = Vec::new();
-    for step in ASSIGNMENT_STEPS {
+    for step in assignment.steps() {
         let pipeline = cx.compute_pipeline(&key, step)?;
         let bindings = Bindings::new()
             .buffer("camera", camera)
@@ -282,17 +345,12 @@ pub(crate) fn assign_lights(
             .buffer_opt("bands", lights.bands())
             .buffer_opt("view_bands", lights.bands().map(|_| &b.view_bands));
         let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
-        // transform: a thread per light; count and fill: workgroups per
-        // light (x up to 65,535, then y; z splits a light's froxels);
-        // scan: one workgroup.
+        // transform: a thread per light; scan: one workgroup; count and
+        // fill: as the assignment spreads them.
         let groups = match step {
             "scan" => (1, 1, 1),
             "transform" => (count.div_ceil(64).max(1), 1, 1),
-            _ => (
-                count.clamp(1, 65_535),
-                count.div_ceil(65_535).max(1),
-                workgroups_per_light(count, grid.clusters(), cx.gpu.adapter_class()),
-            ),
+            _ => assignment.workgroups(count),
         };
         work.push((pipeline, group, groups));
     }
@@ -339,6 +397,35 @@ mod tests {
                 1
             );
         }
+    }
+
+    #[test]
+    fn many_lights_are_packed_64_a_workgroup_and_split_to_fill_the_gpu() {
+        use Assignment::{Packed, PerLight};
+        let of = |lights| Assignment::of(lights, 1_280, AdapterClass::Gpu);
+        assert_eq!(of(100), PerLight { workgroups: 64 });
+        assert_eq!(of(511), PerLight { workgroups: 32 });
+        // 8 groups of 64 split into 2,048 workgroups, at most 64 ways.
+        assert_eq!(of(512), Packed { split: 64 });
+        assert_eq!(of(10_000), Packed { split: 13 });
+        // 1,563 groups, about lights / 12 = 8,333 workgroups capped at 8,192.
+        assert_eq!(of(100_000), Packed { split: 5 });
+        assert_eq!(of(1_000_000), Packed { split: 1 });
+        assert_eq!(of(100_000).steps()[1], "count_packed");
+        assert_eq!(of(100).steps()[1], "count");
+        // Past 65,535 groups the dispatch goes on in y.
+        assert_eq!(
+            Packed { split: 1 }.workgroups(5_000_000),
+            (65_535, 2, 1),
+            "78,125 groups"
+        );
+        assert_eq!(of(100_000).workgroups(100_000), (1_563, 1, 5));
+        // A CPU adapter packs from 64 lights and never splits: each
+        // workgroup is a task its few cores start one after another.
+        let cpu = |lights| Assignment::of(lights, 1_280, AdapterClass::Cpu);
+        assert_eq!(cpu(63), PerLight { workgroups: 1 });
+        assert_eq!(cpu(64), Packed { split: 1 });
+        assert_eq!(cpu(100_000), Packed { split: 1 });
     }
 
     #[test]

@@ -661,7 +661,13 @@ impl CookTorrance {
         // naive shade against 7.6 before other passes, session 10.)
         if self.walk.uses_froxels() {
             let mut pass = fg.pass(self.label("clustered light assignment"), self.owner);
-            super::clusters::announce_assignment(&mut pass, false, self.merges_lights());
+            super::clusters::announce_assignment(
+                &mut pass,
+                false,
+                self.merges_lights(),
+                self.lights.count(),
+                renderer.gpu.adapter_class(),
+            );
             // The assignment's buffers live in the cluster store; the token orders the shade after it.
             pass.write(&self.token, TextureDesc::token());
             pass.run(move |cx| self.assign(grid, cx));

@@ -718,7 +718,11 @@ impl Transparency {
     /// Announce the accumulation's pipelines (frame_graph/gather.rs): the
     /// layers' render pipelines, the clear and, shaded in compute, each
     /// light buffer's shade, as the pass will look them up.
-    fn announce_accumulation(&self, pass: &mut crate::frame_graph::PassBuilder<'_, '_>) {
+    fn announce_accumulation(
+        &self,
+        pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
+        class: crate::adapter_class::AdapterClass,
+    ) {
         pass.will_dispatch(&TransparencyKey::COMPOSITE.key(), "clear");
         for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
             for (culled, kind, _, key) in self.layer_passes(layer, *range) {
@@ -727,8 +731,8 @@ impl Transparency {
             }
         }
         // The froxel lists of clustered light buffers, where the base pass marked.
-        if self.lights.iter().any(|set| set.clusters.is_some()) {
-            crate::lighting::announce_assignment(pass, true, false);
+        for set in self.lights.iter().filter(|set| set.clusters.is_some()) {
+            crate::lighting::announce_assignment(pass, true, false, set.lights.count(), class);
         }
         if self.compute {
             let lobes = self.recorded_lobes();
@@ -1451,7 +1455,7 @@ impl Recipe for Transparency {
         // The pipelines of the draws, the clear and the compute shading,
         // made on threads on a first frame (frame_graph/gather.rs).
         if pass.graph().gathers_pipelines() {
-            self.announce_accumulation(&mut pass);
+            self.announce_accumulation(&mut pass, renderer.gpu.adapter_class());
         }
         pass.run(move |cx| self.accumulate(renderer, cx, &io));
         let mut pass = fg.pass(name("resolve"), self.owner);
