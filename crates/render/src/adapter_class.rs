@@ -13,10 +13,11 @@
 //! (docs/benchmarks.md, "lavapipe (development machine, no GPU)").
 //!
 //! What follows the class (each where it is decided, each tested both ways):
-//! - the clustered light assignment's workgroups per light
-//!   (`lighting/clusters.rs`, `workgroups_per_light`): a GPU up to 64 a
-//!   light, a CPU adapter about 64 in all and never more than a light's
-//!   froxels fill;
+//! - the clustered light assignment's workgroups (`lighting/clusters.rs`,
+//!   `Assignment`): a GPU up to 64 a light, and from 512 lights 64 lights
+//!   a workgroup with their pairs split to about `lights / 12` workgroups;
+//!   a CPU adapter about 64 in all and never more than a light's froxels
+//!   fill, and from 64 lights 64 a workgroup, not split;
 //! - the compute raster's permutation (`gbuffer/compute_raster.rs`,
 //!   `raster_key`): on a CPU adapter a raster without particle systems
 //!   fetches corner positions alone (MESHES_ONLY), not whole vertices

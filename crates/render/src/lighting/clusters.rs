@@ -213,12 +213,6 @@ impl ClusterStore {
     }
 }
 
-/// Lists `lights` in the froxels of `grid` (its uniform in `grid_buffer`,
-/// the camera in `camera`), into `store`'s buffers: the assignment
-/// CookTorrance's clustered light loop reads, and lit transparency's forward
-/// one (post/transparency), so both walk lists made the same way. With
-/// `occupied` (a word per froxel, non-zero where a transparent fragment
-/// lies), only those froxels get lists, and the end slices are unbounded.
 /// How the count and fill steps spread the lights' froxels over workgroups.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Assignment {
@@ -237,13 +231,16 @@ const PACKED_FROM: u32 = 512;
 
 impl Assignment {
     /// Packed from [`PACKED_FROM`] lights on a GPU (64 on a CPU adapter,
-    /// where it saves workgroups, each a task with barriers), split so that
-    /// about `lights / 12` workgroups run, within 2,048..8,192. Measured on
-    /// the H200 (docs/benchmarks.md, "Session 30"): the assignment of 1,000
-    /// lights took 0.052 ms a workgroup a light and 0.029 packed, 100,000
-    /// 0.343 and 0.221, 1,000,000 2.96 and 1.65. Fewer workgroups left the
-    /// GPU waiting on a few (10,000 lights in 157 took 0.068 ms), more
-    /// repeated each one's packing for too few pairs.
+    /// where it saves workgroups, each a task with barriers), each group of
+    /// 64 split so that about `lights / 12` workgroups run, at least 2,048
+    /// and at most 8,192 as far as splitting a group at most 64 ways and not
+    /// at all allows (512 lights: 512 workgroups; 1,000,000: 15,625).
+    /// Measured on the H200 (docs/benchmarks.md, "Session 30"): the
+    /// assignment of 1,000 lights took 0.051 ms a workgroup a light and
+    /// 0.028 packed, 100,000 0.343 and 0.217, 1,000,000 2.96 and 1.65. Fewer
+    /// workgroups left the GPU waiting on a few (10,000 lights in 157
+    /// unsplit took 0.168 ms against 0.054), more repeated each one's
+    /// packing for too few pairs.
     fn of(lights: u32, clusters: u32, class: AdapterClass) -> Assignment {
         let packed_from = match class {
             AdapterClass::Gpu => PACKED_FROM,
@@ -283,7 +280,9 @@ impl Assignment {
 
 /// Announce the pipelines of an assignment `pass` will run
 /// (frame_graph/gather.rs): `occupied` where it reads froxel marks, as
-/// [`assign_lights`] is given them.
+/// [`assign_lights`] is given them, `merged` where the lights carry Light
+/// Merge's bands; `lights` and the adapter's `class` decide the steps
+/// ([`Assignment::of`]).
 pub(crate) fn announce_assignment(
     pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
     occupied: bool,
@@ -301,6 +300,12 @@ pub(crate) fn announce_assignment(
     }
 }
 
+/// Lists `lights` in the froxels of `grid` (its uniform in `grid_buffer`,
+/// the camera in `camera`), into `store`'s buffers: the assignment
+/// CookTorrance's clustered light loop reads, and lit transparency's forward
+/// one (post/transparency), so both walk lists made the same way. With
+/// `occupied` (a word per froxel, non-zero where a transparent fragment
+/// lies), only those froxels get lists, and the end slices are unbounded.
 pub(crate) fn assign_lights(
     cx: &mut PassContext<'_>,
     store: &ClusterStore,
@@ -405,7 +410,7 @@ mod tests {
         let of = |lights| Assignment::of(lights, 1_280, AdapterClass::Gpu);
         assert_eq!(of(100), PerLight { workgroups: 64 });
         assert_eq!(of(511), PerLight { workgroups: 32 });
-        // 8 groups of 64 split into 2,048 workgroups, at most 64 ways.
+        // 8 groups of 64, split the most (64 ways): 512 workgroups.
         assert_eq!(of(512), Packed { split: 64 });
         assert_eq!(of(10_000), Packed { split: 13 });
         // 1,563 groups, about lights / 12 = 8,333 workgroups capped at 8,192.
