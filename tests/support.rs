@@ -24,10 +24,14 @@ const OWN_PROCESS: &str = "SPREADLIGHT_TEST_OWN_PROCESS";
 /// them with its shader cache on: on the development machine the two
 /// fused-set tests of patches.rs crashed 7 times in 24 when run one after
 /// the other in one process, never in 16 runs each alone, and never in 16
-/// with `MESA_SHADER_CACHE_DISABLE=true` (session 29). Each in a process of
-/// its own keeps the cache, and its speed.
+/// with `MESA_SHADER_CACHE_DISABLE=true` (session 29). Alone is not enough:
+/// session 30 saw one crash in a full test run, and 1 in 16 and 1 in 24
+/// runs of the fused-set test alone (with one device; gdb: lavapipe's queue
+/// thread, once a thread creating a pipeline). So the process started runs
+/// with Mesa's shader cache off, which costs each of the two tests about
+/// 18 s of compiling on the development machine.
 pub fn ran_in_a_process_of_its_own(test: &str) -> bool {
-    ran_in_a_process_of_its_own_with(test, &[])
+    ran_in_a_process_of_its_own_with(test, &[("MESA_SHADER_CACHE_DISABLE", "true")])
 }
 
 /// [`ran_in_a_process_of_its_own`] with `env` set in the process started
