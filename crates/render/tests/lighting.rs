@@ -351,17 +351,7 @@ fn lights_packed_64_a_workgroup_and_split_are_listed_as_a_workgroup_a_light_list
     // one only if every froxel lists either a pair or its sum (as in
     // `a_light_merge_lists_a_cube_or_its_members_in_every_froxel_never_both`),
     // here 648 lights and 324 merged ones after them.
-    let mut lights = Vec::new();
-    for (i, j) in (0..18).flat_map(|i| (0..18).map(move |j| (i, j))) {
-        let light = PointLight {
-            shadow: None,
-            position: Vec3::new(-9.375 + 1.1 * i as f32, 1.125, -9.375 + 1.1 * j as f32),
-            color: Vec3::new(0.2 + 0.04 * i as f32, 0.5, 1.0 - 0.04 * j as f32),
-            intensity: 2.0,
-            range: 3.0,
-        };
-        lights.extend([light, light]);
-    }
+    let lights = coincident_pairs(18, 1.1, 2.0);
     let exact = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
     let (merged, did) = shade_approximated(&renderer, &g, &lights, LightLoop::Clustered, 0.0, 0.5);
     assert!(did, "the pairs merge");
@@ -1432,6 +1422,30 @@ fn shade_approximated(
     (image, ct.merges_lights())
 }
 
+/// `side` x `side` pairs of equal lights at one point each, `spacing` apart
+/// and centred over the floor: with Light Merge at 0.5 (cubes of 0.25) and
+/// `spacing` over 0.25, each pair alone in its cube.
+fn coincident_pairs(side: usize, spacing: f32, intensity: f32) -> Vec<PointLight> {
+    let start = -10.0 + 0.125 + (20.0 - spacing * side as f32).max(0.0) / 2.0;
+    let step = 0.8 / side as f32;
+    let mut lights = Vec::new();
+    for (i, j) in (0..side).flat_map(|i| (0..side).map(move |j| (i, j))) {
+        let light = PointLight {
+            shadow: None,
+            position: Vec3::new(
+                start + spacing * i as f32,
+                1.125,
+                start + spacing * j as f32,
+            ),
+            color: Vec3::new(0.2 + step * i as f32, 0.5, 1.0 - step * j as f32),
+            intensity,
+            range: 3.0,
+        };
+        lights.extend([light, light]);
+    }
+    lights
+}
+
 /// Light Merge's partition: a cube of two equal lights at one point merges
 /// into one light equal to both, so the merged image is the exact one only
 /// if every froxel lists either the pair or their sum. One listing both
@@ -1442,17 +1456,7 @@ fn a_light_merge_lists_a_cube_or_its_members_in_every_froxel_never_both() {
     let g = scene(&renderer);
     // Pairs on a lattice 2 apart, each at the centre of a cube of 0.25 (a
     // merge distance of 0.5): no cube holds two pairs.
-    let mut lights = Vec::new();
-    for (i, j) in (0..10).flat_map(|i| (0..10).map(move |j| (i, j))) {
-        let light = PointLight {
-            shadow: None,
-            position: Vec3::new(-9.875 + 2.0 * i as f32, 1.125, -9.875 + 2.0 * j as f32),
-            color: Vec3::new(0.2 + 0.08 * i as f32, 0.5, 1.0 - 0.08 * j as f32),
-            intensity: 6.0,
-            range: 3.0,
-        };
-        lights.extend([light, light]);
-    }
+    let lights = coincident_pairs(10, 2.0, 6.0);
     let exact = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
     for mode in FROXEL_WALKS {
         let (merged, did) = shade_approximated(&renderer, &g, &lights, mode, 0.0, 0.5);
