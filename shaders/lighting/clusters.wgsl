@@ -294,6 +294,21 @@ fn count(
 
 var<workgroup> partial: array<u32, 256>;
 
+// partial[0..lanes] made their running sums (inclusive), in place:
+// Hillis-Steele, log2(lanes) steps. Every lane of the workgroup calls it
+// (barriers), after a barrier that follows its own write.
+fn running_sums(lane: u32, lanes: u32) {
+    for (var step = 1u; step < lanes; step *= 2u) {
+        var add = 0u;
+        if (lane >= step) {
+            add = partial[lane - step];
+        }
+        workgroupBarrier();
+        partial[lane] += add;
+        workgroupBarrier();
+    }
+}
+
 // Exclusive prefix sum of the counts into offsets, then counts are reset to
 // serve as fill cursors. One workgroup walks the froxels 1,024 at a time:
 // each thread takes four neighbours (so the workgroup's loads are
@@ -317,15 +332,7 @@ fn scan(@builtin(local_invocation_index) lane: u32) {
         }
         partial[lane] = sum;
         workgroupBarrier();
-        for (var step = 1u; step < 256u; step *= 2u) {
-            var add = 0u;
-            if (lane >= step) {
-                add = partial[lane - step];
-            }
-            workgroupBarrier();
-            partial[lane] += add;
-            workgroupBarrier();
-        }
+        running_sums(lane, 256u);
         var running = carry + partial[lane] - sum;
         for (var j = 0u; j < 4u; j++) {
             let i = base + lane * 4u + j;
@@ -387,8 +394,6 @@ var<workgroup> packed_first: array<vec3<i32>, LANES>;
 var<workgroup> packed_extent: array<vec3<i32>, LANES>;
 var<workgroup> packed_light: array<vec4<f32>, LANES>;
 var<workgroup> packed_band: array<vec4<f32>, LANES>;
-// The lanes' froxel counts, then their running sums (inclusive).
-var<workgroup> packed_end: array<u32, LANES>;
 
 // The light of `lane` in workgroup `wid`: workgroup g takes lights g,
 // g + G, g + 2G... (G workgroups in all), not 64 in a row, so that no
@@ -421,29 +426,20 @@ fn pack_lights(wid: vec3<u32>, lane: u32) -> u32 {
     packed_extent[lane] = extent;
     packed_light[lane] = light;
     packed_band[lane] = band;
-    packed_end[lane] = u32(extent.x * extent.y * extent.z);
+    partial[lane] = u32(extent.x * extent.y * extent.z);
     workgroupBarrier();
-    // Running sums, Hillis-Steele over the 64 lanes.
-    for (var step = 1u; step < LANES; step *= 2u) {
-        var add = 0u;
-        if (lane >= step) {
-            add = packed_end[lane - step];
-        }
-        workgroupBarrier();
-        packed_end[lane] += add;
-        workgroupBarrier();
-    }
-    return packed_end[LANES - 1u];
+    running_sums(lane, LANES);
+    return partial[LANES - 1u];
 }
 
 // The lane (0..64) whose pairs hold pair `k`: the first whose running sum
-// passes it.
+// of froxel counts (`partial`, from `pack_lights`) passes it.
 fn packed_owner(k: u32) -> u32 {
     var lo = 0u;
     var hi = LANES - 1u;
     while (lo < hi) {
         let mid = (lo + hi) / 2u;
-        if (packed_end[mid] > k) {
+        if (partial[mid] > k) {
             hi = mid;
         } else {
             lo = mid + 1u;
@@ -454,7 +450,7 @@ fn packed_owner(k: u32) -> u32 {
 
 // Pair `k`'s froxel, with its lane in `owner`.
 fn packed_froxel(k: u32, owner: u32) -> vec3<i32> {
-    let before = select(0u, packed_end[max(owner, 1u) - 1u], owner > 0u);
+    let before = select(0u, partial[max(owner, 1u) - 1u], owner > 0u);
     return froxel_at(packed_first[owner], packed_extent[owner], k - before);
 }
 
