@@ -448,10 +448,20 @@ fn packed_owner(k: u32) -> u32 {
     return lo;
 }
 
-// Pair `k`'s froxel, with its lane in `owner`.
-fn packed_froxel(k: u32, owner: u32) -> vec3<i32> {
+// Pair `k` of the workgroup: its lane (`owner`), its froxel, and whether
+// the froxel lists the lane's light. count_packed and fill_packed both ask
+// this, so they visit the same pairs and a fill never passes a count.
+struct PackedPair {
+    owner: u32,
+    froxel: vec3<i32>,
+    listed: bool,
+}
+
+fn packed_pair(k: u32) -> PackedPair {
+    let owner = packed_owner(k);
     let before = select(0u, partial[max(owner, 1u) - 1u], owner > 0u);
-    return froxel_at(packed_first[owner], packed_extent[owner], k - before);
+    let f = froxel_at(packed_first[owner], packed_extent[owner], k - before);
+    return PackedPair(owner, f, wanted(f) && lists(packed_light[owner], packed_band[owner], f));
 }
 
 @compute @workgroup_size(64)
@@ -462,10 +472,9 @@ fn count_packed(
 ) {
     let pairs = pack_lights(wid, lane);
     for (var k = lane + wid.z * LANES; k < pairs; k += LANES * groups.z) {
-        let owner = packed_owner(k);
-        let f = packed_froxel(k, owner);
-        if (wanted(f) && lists(packed_light[owner], packed_band[owner], f)) {
-            atomicAdd(&counts[cluster_index(f.x, f.y, f.z)], 1u);
+        let pair = packed_pair(k);
+        if (pair.listed) {
+            atomicAdd(&counts[cluster_index(pair.froxel.x, pair.froxel.y, pair.froxel.z)], 1u);
         }
     }
 }
@@ -479,15 +488,14 @@ fn fill_packed(
     let pairs = pack_lights(wid, lane);
     let capacity = atomicLoad(&totals[1]);
     for (var k = lane + wid.z * LANES; k < pairs; k += LANES * groups.z) {
-        let owner = packed_owner(k);
-        let f = packed_froxel(k, owner);
-        if (!wanted(f) || !lists(packed_light[owner], packed_band[owner], f)) {
+        let pair = packed_pair(k);
+        if (!pair.listed) {
             continue;
         }
-        let c = cluster_index(f.x, f.y, f.z);
+        let c = cluster_index(pair.froxel.x, pair.froxel.y, pair.froxel.z);
         let slot = offsets[c] + atomicAdd(&counts[c], 1u);
         if (slot < capacity) {
-            indices[slot] = packed_index(wid, owner);
+            indices[slot] = packed_index(wid, pair.owner);
         } else {
             atomicAdd(&totals[2], 1u);
         }
