@@ -1179,7 +1179,7 @@ fn passes_in_waves_render_what_declaration_order_renders() {
 /// arithmetic differently would show it here first).
 #[test]
 fn fused_light_sets_render_what_their_own_passes_render() {
-    // lavapipe's crash after another device rendered fused sets: support.rs.
+    // lavapipe's crash rendering fused sets with its shader cache on: support.rs.
     if spreadlight_tests::ran_in_a_process_of_its_own(
         "patches::fused_light_sets_render_what_their_own_passes_render",
     ) {
@@ -1245,7 +1245,7 @@ fn fused_light_sets_render_what_their_own_passes_render() {
 
 #[test]
 fn summed_light_sets_render_within_rounding_of_separate_passes() {
-    // lavapipe's crash after another device rendered fused sets: support.rs.
+    // lavapipe's crash rendering fused sets with its shader cache on: support.rs.
     if spreadlight_tests::ran_in_a_process_of_its_own(
         "patches::summed_light_sets_render_within_rounding_of_separate_passes",
     ) {

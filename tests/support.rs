@@ -14,22 +14,22 @@ pub mod float_compare;
 const OWN_PROCESS: &str = "SPREADLIGHT_TEST_OWN_PROCESS";
 
 /// Runs `test` (its whole name, `file::test`) again in a process of the
-/// running test binary of its own, asserts that it passed there, and says
-/// whether this was the process that started it: the test is then done, and
-/// returns at once. In the process started, false: the test runs.
+/// running test binary of its own, with Mesa's shader cache off, asserts
+/// that it passed there, and says whether this was the process that started
+/// it: the test is then done, and returns at once. In the process started,
+/// false: the test runs.
 ///
 /// Why: Mesa's lavapipe (22.3, what CI runs) now and then crashes (SIGSEGV
-/// in libvulkan_lvp.so, on its queue thread) when a process renders fused
-/// light sets on a device after another device of the same process rendered
-/// them with its shader cache on: on the development machine the two
-/// fused-set tests of patches.rs crashed 7 times in 24 when run one after
-/// the other in one process, never in 16 runs each alone, and never in 16
-/// with `MESA_SHADER_CACHE_DISABLE=true` (session 29). Alone is not enough:
-/// session 30 saw one crash in a full test run, and 1 in 16 and 1 in 24
-/// runs of the fused-set test alone (with one device; gdb: lavapipe's queue
-/// thread, once a thread creating a pipeline). So the process started runs
-/// with Mesa's shader cache off, which costs each of the two tests about
-/// 18 s of compiling on the development machine.
+/// in libvulkan_lvp.so) while rendering fused light sets with its shader
+/// cache on. Session 29 saw the two fused-set tests of patches.rs crash 7
+/// times in 24 run one after the other in one process, never in 16 each
+/// alone, and never in 16 with `MESA_SHADER_CACHE_DISABLE=true`, and gave
+/// each a process of its own. Session 30 saw them crash alone too: once in
+/// a full test run, 1 in 16 and 1 in 24 runs of one test (gdb: lavapipe's
+/// queue thread, once a thread creating a pipeline; neither one device for
+/// the whole test nor creating pipelines one at a time helped). So the
+/// process started runs with the cache off, which costs each of the two
+/// tests about 18 s of compiling on the development machine.
 pub fn ran_in_a_process_of_its_own(test: &str) -> bool {
     ran_in_a_process_of_its_own_with(test, &[("MESA_SHADER_CACHE_DISABLE", "true")])
 }

@@ -387,9 +387,9 @@ fn fill(
 // `Assignment::Packed`): a workgroup takes 64 lights, a lane each, and its
 // 64 lanes share all their (light, froxel) pairs, so no lane idles while a
 // light of a few froxels is listed; z splits the pairs among workgroups as
-// the per-light steps split a light's froxels. With a workgroup per light, 100,000
-// lights of a dozen froxels each left most of every workgroup's 64 lanes
-// without a froxel, and the assignment took 0.34 ms on the H200.
+// the per-light steps split a light's froxels. With a workgroup per light,
+// 100,000 lights of a dozen froxels each left most of every workgroup's 64
+// lanes without a froxel, and the assignment took 0.34 ms on the H200.
 var<workgroup> packed_first: array<vec3<i32>, LANES>;
 var<workgroup> packed_extent: array<vec3<i32>, LANES>;
 var<workgroup> packed_light: array<vec4<f32>, LANES>;
